@@ -1,0 +1,1 @@
+"""Brush tips: signed-distance geometry, presets, stylus-to-tip mapping, paint reservoir."""

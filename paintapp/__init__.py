@@ -1,0 +1,3 @@
+"""The haptic fluid painting application: canvas, pigments, haptics, rendering, files, CLI."""
+
+__version__ = "0.1.0"

@@ -1,0 +1,3 @@
+from paintapp.cli import main
+
+raise SystemExit(main())

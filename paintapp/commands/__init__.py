@@ -1,0 +1,1 @@
+"""Sub-commands of ``paintapp``; each module exposes ``register(subparsers)``."""
