@@ -1,0 +1,1 @@
+"""Figure makers for ``paintapp figures``; each module exposes ``register(subparsers)``."""
