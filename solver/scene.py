@@ -1,0 +1,263 @@
+"""Scene files (TOML, schema version 1): domain, fluid, boundaries, probes, run, outputs.
+
+The schema is a contract shared with other tools; see the README for the full description.
+Every problem is reported as an :class:`~solver.errors.InputError` naming the file and key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from solver.advection import SCHEMES
+from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
+from solver.drag_models import MODELS
+from solver.errors import InputError
+from solver.grid import Grid
+from solver.probes import Probe
+from solver.schema import Table
+from solver.shapes import Ball, Box
+from solver.simulation import Fluid, Simulation, SolverSettings
+
+SCHEMA_VERSION = 1
+MAX_CELLS = 64_000_000
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """Time step (s) and the number of steps to take."""
+
+    dt_s: float
+    steps: int
+
+
+@dataclass(frozen=True)
+class LineOutput:
+    name: str
+    start_m: tuple[float, ...]
+    end_m: tuple[float, ...]
+    points: int
+
+
+@dataclass(frozen=True)
+class PointOutput:
+    name: str
+    at_m: tuple[float, ...]
+
+
+@dataclass
+class Scene:
+    """A parsed scene: everything needed to build and run a :class:`Simulation`."""
+
+    source: str
+    name: str
+    grid: Grid
+    fluid: Fluid
+    boundary: DomainBoundary
+    probes: list[Probe]
+    settings: SolverSettings
+    run: RunSpec
+    lines: list[LineOutput] = field(default_factory=list)
+    points: list[PointOutput] = field(default_factory=list)
+
+    def build(self) -> Simulation:
+        """A fresh simulation of this scene (probes are copied, so a scene can be run twice)."""
+        probes = [
+            Probe(p.name, p.shape, p.dim, p.centre_m, p.orientation, p.velocity_m_s,
+                  p.angular_velocity_rad_s, p.path, p.reference_m)
+            for p in self.probes
+        ]
+        return Simulation(self.grid, self.fluid, self.boundary, probes, self.settings)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read scene file: {exc.strerror}", source) from None
+    except UnicodeDecodeError:
+        raise InputError("scene file is not UTF-8 text", source) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not valid TOML: {exc}", source) from None
+    return parse_scene(data, source)
+
+
+def parse_scene(data: dict, source: str = "<scene>") -> Scene:
+    """Validate a scene given as nested dicts (as TOML loads it)."""
+    top = Table(data, source, "")
+    version = top.integer("version", SCHEMA_VERSION, minimum=1)
+    if version != SCHEMA_VERSION:
+        raise top.error("version", f"expected schema version {SCHEMA_VERSION}, got {version}")
+    name = top.string("name", Path(source).stem)
+    top.string("description", "")
+    grid = _grid(top.table("domain"))
+    fluid = _fluid(top.table("fluid"), grid.dim)
+    boundary = _boundary(top.table("boundary", {}), grid)
+    probes = [_probe(t, grid) for t in top.tables("probes")]
+    names = [p.name for p in probes]
+    if len(set(names)) != len(names):
+        raise top.error("probes", f"probe names must be unique, got {names}")
+    settings = _settings(top.table("solver", {}))
+    run = _run(top.table("run"))
+    out = top.table("output", {})
+    lines = [_line(t, grid) for t in out.tables("lines")]
+    points = [PointOutput(t.string("name"), _point(t, "at", grid)) for t in out.tables("points")]
+    for t in [*out.tables("lines"), *out.tables("points")]:
+        t.finish()
+    out.finish()
+    top.finish()
+    return Scene(source, name, grid, fluid, boundary, probes, settings, run, lines, points)
+
+
+def _grid(t: Table) -> Grid:
+    size = t.raw("size")
+    if not isinstance(size, list) or len(size) not in (2, 3):
+        raise t.error("size", f"expected 2 (2D) or 3 (3D) numbers in metres, got {size!r}")
+    dim = len(size)
+    size_m = t.vector("size", dim, positive=True)
+    cells = t.raw("cells")
+    if (not isinstance(cells, list) or len(cells) != dim
+            or any(isinstance(c, bool) or not isinstance(c, int) or c < 1 for c in cells)):
+        raise t.error("cells", f"expected {dim} integers >= 1 (one per axis), got {cells!r}")
+    if any(c < 3 for c in cells):
+        raise t.error("cells", f"expected at least 3 cells per axis, got {cells}")
+    if int(np.prod(cells)) > MAX_CELLS:
+        raise t.error("cells", f"expected at most {MAX_CELLS} cells in all, got {int(np.prod(cells))}")
+    hs = [s / c for s, c in zip(size_m, cells, strict=True)]
+    if max(hs) - min(hs) > 1e-6 * max(hs):
+        sizes = ", ".join(f"{h:.6g}" for h in hs)
+        raise t.error("cells", f"cell size must be equal on every axis; size/cells gives {sizes} m")
+    t.finish()
+    return Grid.from_size(size_m, tuple(cells))
+
+
+def _fluid(t: Table, dim: int) -> Fluid:
+    rho = t.number("density", minimum=0.0, exclusive=True)
+    nu = t.number("viscosity", minimum=0.0)
+    body = t.vector("body_force", dim, (0.0,) * dim)
+    t.finish()
+    return Fluid(rho, nu, tuple(body) + (0.0,) * (3 - dim))  # type: ignore[arg-type]
+
+
+def _boundary(t: Table, grid: Grid) -> DomainBoundary:
+    sides = {}
+    allowed = SIDE_NAMES[: 2 * grid.dim]
+    for name in list(t.data):
+        if name not in allowed:
+            raise t.error(name, f"is not a side of a {grid.dim}D domain; expected one of "
+                          f"{', '.join(allowed)}")
+        s = t.table(name)
+        kind = s.string("kind", "wall", choices=list(KIND_NAMES))
+        vel = s.vector("velocity", grid.dim, (0.0,) * grid.dim)
+        profile = s.string("profile", "uniform", choices=["uniform", "parabolic"])
+        axis = allowed.index(name) // 2
+        if kind in ("wall", "slip") and vel[axis] != 0.0:
+            raise s.error("velocity", f"a {kind} cannot move along its normal (component "
+                          f"{axis} must be 0); use kind = \"inflow\" to push fluid in")
+        if kind != "inflow" and s.has("profile"):
+            raise s.error("profile", "only an inflow side has a profile")
+        s.finish()
+        sides[name] = Side(kind, vel, profile)
+    return DomainBoundary(grid, sides)
+
+
+def _probe(t: Table, grid: Grid) -> Probe:
+    dim = grid.dim
+    name = t.string("name")
+    shapes = ("circle", "box") if dim == 2 else ("sphere", "box")
+    kind = t.string("shape", choices=shapes)
+    if kind == "box":
+        shape = Box(t.vector("size", dim, positive=True))
+    else:
+        shape = Ball(t.number("radius", minimum=0.0, exclusive=True))
+    centre = _point(t, "center", grid)
+    if dim == 2:
+        orientation = t.number("angle", 0.0)
+        omega = t.number("angular_velocity", 0.0)
+    else:
+        q = np.array(t.vector("orientation", 4, (1.0, 0.0, 0.0, 0.0)))
+        if np.linalg.norm(q) == 0:
+            raise t.error("orientation", "expected a non-zero quaternion [w, x, y, z]")
+        orientation = q / np.linalg.norm(q)
+        omega = np.array(t.vector("angular_velocity", 3, (0.0, 0.0, 0.0)))
+    velocity = np.array(t.vector("velocity", dim, (0.0,) * dim))
+    reference = np.array(t.vector("reference", dim, (0.0,) * dim))
+    path = _path(t, grid) if t.has("path") else None
+    t.finish()
+    return Probe(name, shape, dim, np.array(centre), orientation, velocity, omega, path, reference)
+
+
+def _path(t: Table, grid: Grid) -> np.ndarray:
+    dim = grid.dim
+    width = 1 + dim + (1 if dim == 2 else 4)
+    rows = t.raw("path")
+    layout = "t, x, y, angle" if dim == 2 else "t, x, y, z, qw, qx, qy, qz"
+    if not isinstance(rows, list) or not rows:
+        raise t.error("path", f"expected a list of keyframes [{layout}]")
+    out = np.zeros((len(rows), width))
+    for n, row in enumerate(rows):
+        if (not isinstance(row, list) or len(row) != width
+                or any(isinstance(v, bool) or not isinstance(v, int | float) for v in row)
+                or not np.all(np.isfinite(row))):
+            raise t.error(f"path[{n}]", f"expected {width} finite numbers [{layout}], got {row!r}")
+        out[n] = row
+        if not _inside(out[n, 1 : 1 + dim], grid):
+            raise t.error(f"path[{n}]", "keyframe position lies outside the domain")
+        if dim == 3 and np.linalg.norm(out[n, 4:]) == 0:
+            raise t.error(f"path[{n}]", "expected a non-zero quaternion")
+    if np.any(np.diff(out[:, 0]) <= 0):
+        raise t.error("path", "keyframe times must increase strictly")
+    return out
+
+
+def _inside(p: np.ndarray | tuple[float, ...], grid: Grid) -> bool:
+    p = np.asarray(p)
+    return bool(np.all(p >= 0.0) and np.all(p <= grid.size_m))
+
+
+def _point(t: Table, key: str, grid: Grid) -> tuple[float, ...]:
+    p = t.vector(key, grid.dim)
+    if not _inside(p, grid):
+        size = ", ".join(f"{s:g}" for s in grid.size_m)
+        raise t.error(key, f"point {list(p)} lies outside the domain [0, ({size})] m")
+    return p
+
+
+def _line(t: Table, grid: Grid) -> LineOutput:
+    return LineOutput(t.string("name"), _point(t, "start", grid), _point(t, "end", grid),
+                      t.integer("points", 17, minimum=2))
+
+
+def _settings(t: Table) -> SolverSettings:
+    s = SolverSettings(
+        advection=t.string("advection", "linear", choices=sorted(SCHEMES)),
+        pressure_tolerance=t.number("pressure_tolerance", 1e-6, minimum=0.0, exclusive=True,
+                                    maximum=1.0),
+        viscosity_tolerance=t.number("viscosity_tolerance", 1e-8, minimum=0.0, exclusive=True,
+                                     maximum=1.0),
+        max_iterations=t.integer("max_iterations", 1000, minimum=1),
+        force_model=t.string("force_model", "stress", choices=list(MODELS)),
+        drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),
+    )
+    t.finish()
+    return s
+
+
+def _run(t: Table) -> RunSpec:
+    dt = t.number("dt", minimum=0.0, exclusive=True)
+    if t.has("steps") and t.has("duration"):
+        raise t.error("steps", "give either duration or steps, not both")
+    if t.has("steps"):
+        steps = t.integer("steps", minimum=1)
+    else:
+        duration = t.number("duration", minimum=0.0, exclusive=True)
+        steps = max(1, round(duration / dt))
+    t.finish()
+    return RunSpec(dt, steps)

@@ -1,0 +1,62 @@
+"""Rigid probe shapes as signed distance functions in their own body frame.
+
+Any object with ``sdf(points) -> distances`` (points shape (..., d) in metres, body frame,
+negative inside) and a ``bounding_radius_m`` attribute can be a probe shape; the brushes layer
+provides its own tips through the same protocol.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+
+@runtime_checkable
+class Shape(Protocol):
+    """A solid described by its signed distance (metres, negative inside) in its body frame."""
+
+    bounding_radius_m: float
+
+    def sdf(self, points: np.ndarray) -> np.ndarray: ...
+
+
+@dataclass(frozen=True)
+class Ball:
+    """A circle (2D) or sphere (3D) of ``radius_m`` centred on the body origin."""
+
+    radius_m: float
+
+    @property
+    def bounding_radius_m(self) -> float:
+        return self.radius_m
+
+    def sdf(self, points: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(points, axis=-1) - self.radius_m
+
+    def cross_section_m(self, dim: int) -> float:
+        """Projected frontal extent (2D: length per unit depth) or area (3D)."""
+        return 2.0 * self.radius_m if dim == 2 else np.pi * self.radius_m**2
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned (in the body frame) box with full extents ``size_m``."""
+
+    size_m: tuple[float, ...]
+
+    @property
+    def bounding_radius_m(self) -> float:
+        return 0.5 * float(np.linalg.norm(self.size_m))
+
+    def sdf(self, points: np.ndarray) -> np.ndarray:
+        half = 0.5 * np.asarray(self.size_m, dtype=float)
+        q = np.abs(points) - half
+        outside = np.linalg.norm(np.maximum(q, 0.0), axis=-1)
+        inside = np.minimum(np.max(q, axis=-1), 0.0)
+        return outside + inside
+
+    def cross_section_m(self, dim: int) -> float:
+        """Frontal extent across x (2D: height) or frontal area across x (3D)."""
+        return float(self.size_m[1]) if dim == 2 else float(self.size_m[1] * self.size_m[2])
