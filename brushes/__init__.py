@@ -1,1 +1,45 @@
 """Brush tips: signed-distance geometry, presets, stylus-to-tip mapping, paint reservoir."""
+
+from brushes.pose import INPUT_KINDS, InputKind, TipPose, TipTracker, place_tip
+from brushes.presets import (
+    BrushPreset,
+    PressureResponse,
+    TiltResponse,
+    find_preset,
+    list_presets,
+    load_preset,
+    load_preset_named,
+)
+from brushes.probe import ProbeMotion, probe_motion, probe_motion_2d, voxelize
+from brushes.reservoir import PaintReservoir
+from brushes.shapes import Disc, Rect, RoundCone, RoundedBox, Section, Shape, Splayed, TipShape
+from brushes.stylus import StylusSample
+
+__all__ = [
+    "INPUT_KINDS",
+    "BrushPreset",
+    "Disc",
+    "InputKind",
+    "PaintReservoir",
+    "PressureResponse",
+    "ProbeMotion",
+    "Rect",
+    "RoundCone",
+    "RoundedBox",
+    "Section",
+    "Shape",
+    "Splayed",
+    "StylusSample",
+    "TiltResponse",
+    "TipPose",
+    "TipShape",
+    "TipTracker",
+    "find_preset",
+    "list_presets",
+    "load_preset",
+    "load_preset_named",
+    "place_tip",
+    "probe_motion",
+    "probe_motion_2d",
+    "voxelize",
+]

@@ -34,6 +34,10 @@ def sample(q: np.ndarray, axis: int, x: float, y: float, z: float, h: float) -> 
     k, fz = _clamped_index(z, 0.0 if axis == 2 else 0.5, h, nz)
     i1 = min(i + 1, nx - 1)
     j1 = min(j + 1, ny - 1)
+    if nz == 1:
+        a = q[i, j, 0] * (1.0 - fx) + q[i1, j, 0] * fx
+        b = q[i, j1, 0] * (1.0 - fx) + q[i1, j1, 0] * fx
+        return a * (1.0 - fy) + b * fy
     k1 = min(k + 1, nz - 1)
     c00 = q[i, j, k] * (1.0 - fx) + q[i1, j, k] * fx
     c10 = q[i, j1, k] * (1.0 - fx) + q[i1, j1, k] * fx

@@ -29,157 +29,158 @@ class SolveReport:
 
 
 @njit(cache=True, nogil=True)
-def mic0(diag, offx, offy, offz, active, dim, precon):
-    """Fill ``precon`` with the MIC(0) factor's inverse diagonal (1/sqrt(e))."""
-    nx, ny, nz = diag.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if not active[i, j, k]:
-                    precon[i, j, k] = 0.0
-                    continue
-                e = diag[i, j, k]
-                if i > 0 and active[i - 1, j, k]:
-                    a = offx[i - 1, j, k] * precon[i - 1, j, k]
-                    e -= a * a + MIC_TAU * a * precon[i - 1, j, k] * (
-                        offy[i - 1, j, k] + offz[i - 1, j, k]
-                    )
-                if j > 0 and active[i, j - 1, k]:
-                    a = offy[i, j - 1, k] * precon[i, j - 1, k]
-                    e -= a * a + MIC_TAU * a * precon[i, j - 1, k] * (
-                        offx[i, j - 1, k] + offz[i, j - 1, k]
-                    )
-                if dim == 3 and k > 0 and active[i, j, k - 1]:
-                    a = offz[i, j, k - 1] * precon[i, j, k - 1]
-                    e -= a * a + MIC_TAU * a * precon[i, j, k - 1] * (
-                        offx[i, j, k - 1] + offy[i, j, k - 1]
-                    )
-                if e < MIC_SIGMA * diag[i, j, k]:
-                    e = diag[i, j, k]
-                precon[i, j, k] = 1.0 / np.sqrt(e) if e > 0.0 else 0.0
+def mic0(diag, offx, offy, offz, active, strides, precon):
+    """Fill ``precon`` with the MIC(0) factor's inverse diagonal (1/sqrt(e)); flat arrays."""
+    sx, sy, sz = strides
+    for n in range(diag.size):
+        if not active[n]:
+            precon[n] = 0.0
+            continue
+        e = diag[n]
+        if n >= sx:
+            m = n - sx
+            a = offx[m] * precon[m]
+            e -= a * a + MIC_TAU * a * precon[m] * (offy[m] + offz[m])
+        if n >= sy:
+            m = n - sy
+            a = offy[m] * precon[m]
+            e -= a * a + MIC_TAU * a * precon[m] * (offx[m] + offz[m])
+        if sz > 0 and n >= sz:
+            m = n - sz
+            a = offz[m] * precon[m]
+            e -= a * a + MIC_TAU * a * precon[m] * (offx[m] + offy[m])
+        if e < MIC_SIGMA * diag[n]:
+            e = diag[n]
+        precon[n] = 1.0 / np.sqrt(e) if e > 0.0 else 0.0
 
 
 @njit(cache=True, nogil=True)
-def apply_precon(offx, offy, offz, active, dim, precon, r, q, z):
-    """z = (L L^T)^{-1} r with the MIC(0) factor; ``q`` is scratch."""
-    nx, ny, nz = r.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if not active[i, j, k]:
-                    q[i, j, k] = 0.0
-                    continue
-                t = r[i, j, k]
-                if i > 0:
-                    t -= offx[i - 1, j, k] * precon[i - 1, j, k] * q[i - 1, j, k]
-                if j > 0:
-                    t -= offy[i, j - 1, k] * precon[i, j - 1, k] * q[i, j - 1, k]
-                if dim == 3 and k > 0:
-                    t -= offz[i, j, k - 1] * precon[i, j, k - 1] * q[i, j, k - 1]
-                q[i, j, k] = t * precon[i, j, k]
-    for i in range(nx - 1, -1, -1):
-        for j in range(ny - 1, -1, -1):
-            for k in range(nz - 1, -1, -1):
-                if not active[i, j, k]:
-                    z[i, j, k] = 0.0
-                    continue
-                t = q[i, j, k]
-                p = precon[i, j, k]
-                if i + 1 < nx:
-                    t -= offx[i, j, k] * p * z[i + 1, j, k]
-                if j + 1 < ny:
-                    t -= offy[i, j, k] * p * z[i, j + 1, k]
-                if dim == 3 and k + 1 < nz:
-                    t -= offz[i, j, k] * p * z[i, j, k + 1]
-                z[i, j, k] = t * p
+def apply_precon(offx, offy, offz, active, strides, precon, r, q, z):
+    """z = (L L^T)^{-1} r with the MIC(0) factor; ``q`` is scratch; flat arrays."""
+    sx, sy, sz = strides
+    size = r.size
+    for n in range(size):
+        if not active[n]:
+            q[n] = 0.0
+            continue
+        t = r[n]
+        if n >= sx:
+            t -= offx[n - sx] * precon[n - sx] * q[n - sx]
+        if n >= sy:
+            t -= offy[n - sy] * precon[n - sy] * q[n - sy]
+        if sz > 0 and n >= sz:
+            t -= offz[n - sz] * precon[n - sz] * q[n - sz]
+        q[n] = t * precon[n]
+    for n in range(size - 1, -1, -1):
+        if not active[n]:
+            z[n] = 0.0
+            continue
+        t = q[n]
+        p = precon[n]
+        if n + sx < size:
+            t -= offx[n] * p * z[n + sx]
+        if n + sy < size:
+            t -= offy[n] * p * z[n + sy]
+        if sz > 0 and n + sz < size:
+            t -= offz[n] * p * z[n + sz]
+        z[n] = t * p
 
 
 @njit(cache=True, nogil=True)
-def apply_stencil(diag, offx, offy, offz, active, dim, x, out):
-    """out = A x on active entries (0 elsewhere)."""
-    nx, ny, nz = x.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if not active[i, j, k]:
-                    out[i, j, k] = 0.0
-                    continue
-                s = diag[i, j, k] * x[i, j, k]
-                if i > 0:
-                    s += offx[i - 1, j, k] * x[i - 1, j, k]
-                if i + 1 < nx:
-                    s += offx[i, j, k] * x[i + 1, j, k]
-                if j > 0:
-                    s += offy[i, j - 1, k] * x[i, j - 1, k]
-                if j + 1 < ny:
-                    s += offy[i, j, k] * x[i, j + 1, k]
-                if dim == 3:
-                    if k > 0:
-                        s += offz[i, j, k - 1] * x[i, j, k - 1]
-                    if k + 1 < nz:
-                        s += offz[i, j, k] * x[i, j, k + 1]
-                out[i, j, k] = s
+def apply_stencil(diag, offx, offy, offz, active, strides, x, out):
+    """out = A x on active entries (0 elsewhere); flat arrays."""
+    sx, sy, sz = strides
+    size = x.size
+    for n in range(size):
+        if not active[n]:
+            out[n] = 0.0
+            continue
+        s = diag[n] * x[n]
+        if n >= sx:
+            s += offx[n - sx] * x[n - sx]
+        if n + sx < size:
+            s += offx[n] * x[n + sx]
+        if n >= sy:
+            s += offy[n - sy] * x[n - sy]
+        if n + sy < size:
+            s += offy[n] * x[n + sy]
+        if sz > 0:
+            if n >= sz:
+                s += offz[n - sz] * x[n - sz]
+            if n + sz < size:
+                s += offz[n] * x[n + sz]
+        out[n] = s
 
 
 @njit(cache=True, nogil=True)
-def _dot(a, b, active):
+def _dot(a, b):
     s = 0.0
     for n in range(a.size):
-        if active.flat[n]:
-            s += a.flat[n] * b.flat[n]
+        s += a[n] * b[n]
     return s
 
 
 @njit(cache=True, nogil=True)
-def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
-    """Solve A x = b in place (x holds the warm start). Returns (iterations, relative residual).
-
-    Stops when ``||r|| <= tol * ||b||``. Off-diagonals coupling an active entry to an inactive
-    one must be zero.
-    """
-    precon = np.zeros_like(b)
-    mic0(diag, offx, offy, offz, active, dim, precon)
-    r = np.zeros_like(b)
-    apply_stencil(diag, offx, offy, offz, active, dim, x, r)
-    for n in range(b.size):
-        r.flat[n] = b.flat[n] - r.flat[n] if active.flat[n] else 0.0
-    bnorm = np.sqrt(_dot(b, b, active))
+def pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter):
+    """PCG on flat arrays; see :func:`pcg`. Entries of ``b`` off ``active`` must be 0."""
+    size = b.size
+    precon = np.zeros(size)
+    mic0(diag, offx, offy, offz, active, strides, precon)
+    r = np.zeros(size)
+    apply_stencil(diag, offx, offy, offz, active, strides, x, r)
+    for n in range(size):
+        r[n] = b[n] - r[n] if active[n] else 0.0
+    bnorm = np.sqrt(_dot(b, b))
     if bnorm == 0.0:
-        for n in range(x.size):
-            if active.flat[n]:
-                x.flat[n] = 0.0
+        for n in range(size):
+            if active[n]:
+                x[n] = 0.0
         return 0, 0.0
-    rnorm = np.sqrt(_dot(r, r, active))
+    rnorm = np.sqrt(_dot(r, r))
     if rnorm <= tol * bnorm:
         return 0, rnorm / bnorm
-    q = np.zeros_like(b)
-    z = np.zeros_like(b)
-    apply_precon(offx, offy, offz, active, dim, precon, r, q, z)
+    q = np.zeros(size)
+    z = np.zeros(size)
+    apply_precon(offx, offy, offz, active, strides, precon, r, q, z)
     s = z.copy()
-    sigma = _dot(z, r, active)
+    sigma = _dot(z, r)
     it = 0
     while it < max_iter:
         it += 1
-        apply_stencil(diag, offx, offy, offz, active, dim, s, z)
-        denom = _dot(z, s, active)
+        apply_stencil(diag, offx, offy, offz, active, strides, s, z)
+        denom = _dot(z, s)
         if denom == 0.0:
             break
         alpha = sigma / denom
-        for n in range(x.size):
-            if active.flat[n]:
-                x.flat[n] += alpha * s.flat[n]
-                r.flat[n] -= alpha * z.flat[n]
-        rnorm = np.sqrt(_dot(r, r, active))
+        for n in range(size):
+            x[n] += alpha * s[n]
+            r[n] -= alpha * z[n]
+        rnorm = np.sqrt(_dot(r, r))
         if rnorm <= tol * bnorm:
             break
-        apply_precon(offx, offy, offz, active, dim, precon, r, q, z)
-        sigma_new = _dot(z, r, active)
+        apply_precon(offx, offy, offz, active, strides, precon, r, q, z)
+        sigma_new = _dot(z, r)
         beta = sigma_new / sigma
         sigma = sigma_new
-        for n in range(s.size):
-            if active.flat[n]:
-                s.flat[n] = z.flat[n] + beta * s.flat[n]
+        for n in range(size):
+            s[n] = z[n] + beta * s[n]
     return it, rnorm / bnorm
+
+
+@njit(cache=True, nogil=True)
+def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
+    """Solve A x = b in place (x holds the warm start; 3D arrays, C order). Returns
+    (iterations, relative residual ``||b - A x|| / ||b||``), stopping at ``tol``.
+
+    Off-diagonals coupling an active entry to an inactive one, or to beyond the array's end along
+    their axis, must be zero; ``b`` must be zero off ``active``.
+    """
+    nx, ny, nz = b.shape
+    strides = (ny * nz, nz, 1 if dim == 3 else 0)
+    xf = x.reshape(-1)
+    it, res = pcg_flat(diag.reshape(-1), offx.reshape(-1), offy.reshape(-1), offz.reshape(-1),
+                       active.reshape(-1), strides, b.reshape(-1), xf, tol, max_iter)
+    return it, res
 
 
 def solve(system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int) -> SolveReport:

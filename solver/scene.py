@@ -107,9 +107,10 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
     settings = _settings(top.table("solver", {}))
     run = _run(top.table("run"))
     out = top.table("output", {})
-    lines = [_line(t, grid) for t in out.tables("lines")]
-    points = [PointOutput(t.string("name"), _point(t, "at", grid)) for t in out.tables("points")]
-    for t in [*out.tables("lines"), *out.tables("points")]:
+    line_tables, point_tables = out.tables("lines"), out.tables("points")
+    lines = [_line(t, grid) for t in line_tables]
+    points = [PointOutput(t.string("name"), _point(t, "at", grid)) for t in point_tables]
+    for t in [*line_tables, *point_tables]:
         t.finish()
     out.finish()
     top.finish()

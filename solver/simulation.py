@@ -179,9 +179,11 @@ class Simulation:
             return ()
         g, st, cfg = self.grid, self.state, self.settings
         coeff = nu * dt_s / g.cell_size_m**2
+        centre, vel, omega, _ = self.rigid_motion()
+        rigid = np.stack([centre, vel, omega])
         return tuple(
             diffuse(st.comps[a], st.face_types[a], a, g.dim, coeff, self._kinds, self._side_vel,
-                    cfg.viscosity_tolerance, cfg.max_iterations)
+                    st.label, rigid, g.cell_size_m, cfg.viscosity_tolerance, cfg.max_iterations)
             for a in range(g.dim)
         )
 

@@ -23,14 +23,28 @@ from solver.faces import FLUID, rigid_velocity
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _omega_cross_axis(omega, p, t, b):
-    """Component b of omega_p x e_t: the rigid velocity gradient d(U_b)/d(x_t)."""
-    wx, wy, wz = omega[p, 0], omega[p, 1], omega[p, 2]
-    if t == 0:
-        return 0.0 if b == 0 else (wz if b == 1 else -wy)
-    if t == 1:
-        return -wz if b == 0 else (0.0 if b == 1 else wx)
-    return wy if b == 0 else (-wx if b == 1 else 0.0)
+def _cell_value(q, b, i, j, k):
+    """Cell-centred value of component ``b`` (mean of the cell's two b-faces)."""
+    return 0.5 * (q[i, j, k] + q[i + (b == 0), j + (b == 1), k + (b == 2)])
+
+
+@njit(cache=True, nogil=True)
+def _tangential_derivative(q, b, t, i, j, k, h):
+    """d(u_b)/d(x_t) at the centre of cell (i, j, k) by central differences of cell-centred
+    values (one-sided at the domain edge). Solid neighbours hold their rigid velocity, so the
+    derivative sees the body's motion, and on a staircase it sees the flow turning round the
+    steps, which the face-normal difference alone misses."""
+    n = (q.shape[0] - (b == 0), q.shape[1] - (b == 1), q.shape[2] - (b == 2))
+    idx = i if t == 0 else (j if t == 1 else k)
+    lo = idx - 1 if idx > 0 else idx
+    hi = idx + 1 if idx + 1 < n[t] else idx
+    if hi == lo:
+        return 0.0
+    vlo = _cell_value(q, b, i + (lo - idx) * (t == 0), j + (lo - idx) * (t == 1),
+                      k + (lo - idx) * (t == 2))
+    vhi = _cell_value(q, b, i + (hi - idx) * (t == 0), j + (hi - idx) * (t == 1),
+                      k + (hi - idx) * (t == 2))
+    return (vhi - vlo) / ((hi - lo) * h)
 
 
 @njit(cache=True, nogil=True)
@@ -74,9 +88,8 @@ def stress_integral(label, comps_u, comps_v, comps_w, pressure, mu, h, dim, cent
                             qt = comps[t]
                             ut = 0.5 * (qt[gi, gj, gk] + qt[gi + (t == 0), gj + (t == 1), gk + (t == 2)])
                             wall = rigid_velocity(centre, vel, omega, p, xf, yf, zf, t)
-                            traction[t] = mu * (
-                                2.0 * (ut - wall) / h + s * _omega_cross_axis(omega, p, t, b)
-                            )
+                            dub_dxt = _tangential_derivative(qb, b, t, gi, gj, gk, h)
+                            traction[t] = mu * (2.0 * (ut - wall) / h + s * dub_dxt)
                         for c in range(3):
                             f_viscous[p, c] += traction[c] * area
                         fx = traction[0] * area

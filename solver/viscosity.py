@@ -11,18 +11,39 @@ import numpy as np
 from numba import njit
 
 from solver.boundary import INFLOW, WALL
-from solver.faces import FREE, INTERIOR
+from solver.faces import FREE, INTERIOR, rigid_velocity
 from solver.pcg import SolveReport, StencilSystem, solve
 
 
 @njit(cache=True, nogil=True)
+def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
+    """Component ``axis`` of the solid's velocity on the surface between face (i, j, k) and its
+    solid neighbour (ii, jj, kk) across axis ``b`` (direction ``s``)."""
+    owner = label[min(ii, label.shape[0] - 1), min(jj, label.shape[1] - 1),
+                  min(kk, label.shape[2] - 1)]
+    if owner < 0:
+        li, lj, lk = ii - (axis == 0), jj - (axis == 1), kk - (axis == 2)
+        if li >= 0 and lj >= 0 and lk >= 0:
+            owner = label[li, lj, lk]
+    if owner < 0:
+        return 0.0
+    x = (i + (0.0 if axis == 0 else 0.5) + 0.5 * s * (b == 0)) * h
+    y = (j + (0.0 if axis == 1 else 0.5) + 0.5 * s * (b == 1)) * h
+    z = (k + (0.0 if axis == 2 else 0.5) + 0.5 * s * (b == 2)) * h
+    return rigid_velocity(rigid[0], rigid[1], rigid[2], owner, x, y, z, axis)
+
+
+@njit(cache=True, nogil=True)
 def build_viscosity_system(
-    q, face_type, axis, dim, coeff, kinds, side_vel, diag, offx, offy, offz, active, rhs
+    q, face_type, axis, dim, coeff, kinds, side_vel, label, rigid, h,
+    diag, offx, offy, offz, active, rhs,
 ):
     """Assemble the backward-Euler diffusion system for component ``axis``.
 
     ``coeff`` is ``nu dt / h^2``. ``q`` holds the advected values at free faces and the prescribed
-    values elsewhere; ``rhs`` receives the right-hand side.
+    values elsewhere; ``rhs`` receives the right-hand side. ``rigid`` stacks the probes' centre,
+    velocity and angular velocity (3, n_probes, 3) so that a ghost across a probe's surface
+    reflects about the surface velocity at the surface itself.
     """
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
@@ -36,7 +57,7 @@ def build_viscosity_system(
                 active[i, j, k] = free
                 if not free:
                     diag[i, j, k] = 1.0
-                    rhs[i, j, k] = q[i, j, k]
+                    rhs[i, j, k] = 0.0
                     continue
                 d = 1.0
                 r = q[i, j, k]
@@ -64,7 +85,9 @@ def build_viscosity_system(
                                     offz[i, j, k] = -coeff
                         elif t == INTERIOR and b != axis:
                             d += 2.0 * coeff
-                            r += 2.0 * coeff * q[ii, jj, kk]
+                            r += 2.0 * coeff * _surface_velocity(
+                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
+                            )
                         else:
                             d += coeff
                             r += coeff * q[ii, jj, kk]
@@ -80,6 +103,9 @@ def diffuse(
     coeff: float,
     kinds: np.ndarray,
     side_vel: np.ndarray,
+    label: np.ndarray,
+    rigid: np.ndarray,
+    h: float,
     tol: float,
     max_iter: int,
 ) -> SolveReport:
@@ -87,7 +113,7 @@ def diffuse(
     system = StencilSystem.empty(q.shape, dim)
     rhs = np.empty_like(q)
     build_viscosity_system(
-        q, face_type, axis, dim, coeff, kinds, side_vel,
+        q, face_type, axis, dim, coeff, kinds, side_vel, label, rigid, h,
         system.diag, system.off[0], system.off[1], system.off[2], system.active, rhs,
     )
     return solve(system, rhs, q, tol, max_iter)
