@@ -14,10 +14,9 @@ import pkgutil
 import sys
 from collections.abc import Sequence
 
-from solver.errors import InputError
-
 import paintapp
 import paintapp.commands
+from solver.errors import InputError
 
 
 def build_parser() -> argparse.ArgumentParser:

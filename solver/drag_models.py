@@ -23,7 +23,9 @@ def quadratic_drag(
 
 
 def viscous_drag(
-    relative_velocity_m_s: np.ndarray, dynamic_viscosity_pa_s: float, area: float,
+    relative_velocity_m_s: np.ndarray,
+    dynamic_viscosity_pa_s: float,
+    area: float,
     coefficient: float = 1.0,
 ) -> np.ndarray:
     """Viscous drag (paper eq. 6) opposing ``relative_velocity_m_s``; linear in velocity."""

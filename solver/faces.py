@@ -12,7 +12,6 @@ covers them. A face of velocity component ``a`` is
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 FLUID = -1

@@ -86,3 +86,36 @@ def sample_many(q: np.ndarray, axis: int, points: np.ndarray, h: float) -> np.nd
     for n in range(points.shape[0]):
         out[n] = sample(q, axis, points[n, 0], points[n, 1], points[n, 2], h)
     return out
+
+
+@njit(cache=True)
+def sample_cells_fluid(
+    q: np.ndarray, label: np.ndarray, points: np.ndarray, h: float
+) -> np.ndarray:
+    """Trilinear value of a cell-centred field at each point, from fluid cells only.
+
+    Solid cells (``label >= 0`` or ``-2``) are left out and the weights of the fluid cells are
+    renormalised, so that pressure sampled on a body's surface is the fluid's, not a blend with
+    the (meaningless) value inside the body. NaN where no fluid cell is near.
+    """
+    nx, ny, nz = q.shape
+    out = np.empty(points.shape[0])
+    for n in range(points.shape[0]):
+        i, fx = _clamped_index(points[n, 0], 0.5, h, nx)
+        j, fy = _clamped_index(points[n, 1], 0.5, h, ny)
+        k, fz = _clamped_index(points[n, 2], 0.5, h, nz)
+        total = 0.0
+        weight = 0.0
+        for a in range(2):
+            for b in range(2):
+                for c in range(2):
+                    ii, jj, kk = min(i + a, nx - 1), min(j + b, ny - 1), min(k + c, nz - 1)
+                    if label[ii, jj, kk] != -1:
+                        continue
+                    wgt = (
+                        (fx if a else 1.0 - fx) * (fy if b else 1.0 - fy) * (fz if c else 1.0 - fz)
+                    )
+                    total += wgt * q[ii, jj, kk]
+                    weight += wgt
+        out[n] = total / weight if weight > 1e-12 else np.nan
+    return out

@@ -175,19 +175,39 @@ def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
     Off-diagonals coupling an active entry to an inactive one, or to beyond the array's end along
     their axis, must be zero; ``b`` must be zero off ``active``.
     """
-    nx, ny, nz = b.shape
+    _nx, ny, nz = b.shape
     strides = (ny * nz, nz, 1 if dim == 3 else 0)
     xf = x.reshape(-1)
-    it, res = pcg_flat(diag.reshape(-1), offx.reshape(-1), offy.reshape(-1), offz.reshape(-1),
-                       active.reshape(-1), strides, b.reshape(-1), xf, tol, max_iter)
+    it, res = pcg_flat(
+        diag.reshape(-1),
+        offx.reshape(-1),
+        offy.reshape(-1),
+        offz.reshape(-1),
+        active.reshape(-1),
+        strides,
+        b.reshape(-1),
+        xf,
+        tol,
+        max_iter,
+    )
     return it, res
 
 
-def solve(system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int) -> SolveReport:
+def solve(
+    system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
+) -> SolveReport:
     """Solve ``system`` for right-hand side ``b`` in place in ``x`` (its value is the warm start)."""
     it, res = pcg(
-        system.diag, system.off[0], system.off[1], system.off[2], system.active, system.dim,
-        b, x, tol, max_iter,
+        system.diag,
+        system.off[0],
+        system.off[1],
+        system.off[2],
+        system.active,
+        system.dim,
+        b,
+        x,
+        tol,
+        max_iter,
     )
     return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
 

@@ -86,7 +86,9 @@ class Probe:
         return centre, rotation.slerp(a[1 + d :], b[1 + d :], f)
 
     def _orientation_of(self, row: np.ndarray) -> np.ndarray | float:
-        return float(row[1 + self.dim]) if self.dim == 2 else rotation.normalise(row[1 + self.dim :])
+        return (
+            float(row[1 + self.dim]) if self.dim == 2 else rotation.normalise(row[1 + self.dim :])
+        )
 
     def advance(self, t_s: float, dt_s: float) -> None:
         """Move from time ``t_s`` to ``t_s + dt_s``; velocities become the step's average."""

@@ -109,7 +109,9 @@ def timing_summary(stats: list[StepStats]) -> dict[str, Any]:
         "pressure_max_residual": float(max(s.pressure.residual for s in stats)),
         "viscosity_iterations": {"mean": float(v_it.mean()), "max": int(v_it.max())},
         "unconverged_solves": int(
-            sum((not s.pressure.converged) + sum(not r.converged for r in s.viscosity)
-                for s in stats)
+            sum(
+                (not s.pressure.converged) + sum(not r.converged for r in s.viscosity)
+                for s in stats
+            )
         ),
     }

@@ -66,8 +66,17 @@ class Scene:
     def build(self) -> Simulation:
         """A fresh simulation of this scene (probes are copied, so a scene can be run twice)."""
         probes = [
-            Probe(p.name, p.shape, p.dim, p.centre_m, p.orientation, p.velocity_m_s,
-                  p.angular_velocity_rad_s, p.path, p.reference_m)
+            Probe(
+                p.name,
+                p.shape,
+                p.dim,
+                p.centre_m,
+                p.orientation,
+                p.velocity_m_s,
+                p.angular_velocity_rad_s,
+                p.path,
+                p.reference_m,
+            )
             for p in self.probes
         ]
         return Simulation(self.grid, self.fluid, self.boundary, probes, self.settings)
@@ -124,13 +133,18 @@ def _grid(t: Table) -> Grid:
     dim = len(size)
     size_m = t.vector("size", dim, positive=True)
     cells = t.raw("cells")
-    if (not isinstance(cells, list) or len(cells) != dim
-            or any(isinstance(c, bool) or not isinstance(c, int) or c < 1 for c in cells)):
+    if (
+        not isinstance(cells, list)
+        or len(cells) != dim
+        or any(isinstance(c, bool) or not isinstance(c, int) or c < 1 for c in cells)
+    ):
         raise t.error("cells", f"expected {dim} integers >= 1 (one per axis), got {cells!r}")
     if any(c < 3 for c in cells):
         raise t.error("cells", f"expected at least 3 cells per axis, got {cells}")
     if int(np.prod(cells)) > MAX_CELLS:
-        raise t.error("cells", f"expected at most {MAX_CELLS} cells in all, got {int(np.prod(cells))}")
+        raise t.error(
+            "cells", f"expected at most {MAX_CELLS} cells in all, got {int(np.prod(cells))}"
+        )
     hs = [s / c for s, c in zip(size_m, cells, strict=True)]
     if max(hs) - min(hs) > 1e-6 * max(hs):
         sizes = ", ".join(f"{h:.6g}" for h in hs)
@@ -152,16 +166,20 @@ def _boundary(t: Table, grid: Grid) -> DomainBoundary:
     allowed = SIDE_NAMES[: 2 * grid.dim]
     for name in list(t.data):
         if name not in allowed:
-            raise t.error(name, f"is not a side of a {grid.dim}D domain; expected one of "
-                          f"{', '.join(allowed)}")
+            raise t.error(
+                name, f"is not a side of a {grid.dim}D domain; expected one of {', '.join(allowed)}"
+            )
         s = t.table(name)
         kind = s.string("kind", "wall", choices=list(KIND_NAMES))
         vel = s.vector("velocity", grid.dim, (0.0,) * grid.dim)
         profile = s.string("profile", "uniform", choices=["uniform", "parabolic"])
         axis = allowed.index(name) // 2
         if kind in ("wall", "slip") and vel[axis] != 0.0:
-            raise s.error("velocity", f"a {kind} cannot move along its normal (component "
-                          f"{axis} must be 0); use kind = \"inflow\" to push fluid in")
+            raise s.error(
+                "velocity",
+                f"a {kind} cannot move along its normal (component "
+                f'{axis} must be 0); use kind = "inflow" to push fluid in',
+            )
         if kind != "inflow" and s.has("profile"):
             raise s.error("profile", "only an inflow side has a profile")
         s.finish()
@@ -204,9 +222,12 @@ def _path(t: Table, grid: Grid) -> np.ndarray:
         raise t.error("path", f"expected a list of keyframes [{layout}]")
     out = np.zeros((len(rows), width))
     for n, row in enumerate(rows):
-        if (not isinstance(row, list) or len(row) != width
-                or any(isinstance(v, bool) or not isinstance(v, int | float) for v in row)
-                or not np.all(np.isfinite(row))):
+        if (
+            not isinstance(row, list)
+            or len(row) != width
+            or any(isinstance(v, bool) or not isinstance(v, int | float) for v in row)
+            or not np.all(np.isfinite(row))
+        ):
             raise t.error(f"path[{n}]", f"expected {width} finite numbers [{layout}], got {row!r}")
         out[n] = row
         if not _inside(out[n, 1 : 1 + dim], grid):
@@ -232,17 +253,23 @@ def _point(t: Table, key: str, grid: Grid) -> tuple[float, ...]:
 
 
 def _line(t: Table, grid: Grid) -> LineOutput:
-    return LineOutput(t.string("name"), _point(t, "start", grid), _point(t, "end", grid),
-                      t.integer("points", 17, minimum=2))
+    return LineOutput(
+        t.string("name"),
+        _point(t, "start", grid),
+        _point(t, "end", grid),
+        t.integer("points", 17, minimum=2),
+    )
 
 
 def _settings(t: Table) -> SolverSettings:
     s = SolverSettings(
         advection=t.string("advection", "linear", choices=sorted(SCHEMES)),
-        pressure_tolerance=t.number("pressure_tolerance", 1e-6, minimum=0.0, exclusive=True,
-                                    maximum=1.0),
-        viscosity_tolerance=t.number("viscosity_tolerance", 1e-8, minimum=0.0, exclusive=True,
-                                     maximum=1.0),
+        pressure_tolerance=t.number(
+            "pressure_tolerance", 1e-6, minimum=0.0, exclusive=True, maximum=1.0
+        ),
+        viscosity_tolerance=t.number(
+            "viscosity_tolerance", 1e-8, minimum=0.0, exclusive=True, maximum=1.0
+        ),
         max_iterations=t.integer("max_iterations", 1000, minimum=1),
         force_model=t.string("force_model", "stress", choices=list(MODELS)),
         drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),

@@ -40,8 +40,15 @@ class Table:
             return default
         return self.data[name]
 
-    def number(self, name: str, default: Any = _MISSING, *, minimum: float | None = None,
-               exclusive: bool = False, maximum: float | None = None) -> float:
+    def number(
+        self,
+        name: str,
+        default: Any = _MISSING,
+        *,
+        minimum: float | None = None,
+        exclusive: bool = False,
+        maximum: float | None = None,
+    ) -> float:
         value = self.raw(name, default)
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.error(name, f"expected a number, got {value!r}")
@@ -63,8 +70,9 @@ class Table:
             raise self.error(name, f"expected an integer >= {minimum}, got {value}")
         return int(value)
 
-    def string(self, name: str, default: Any = _MISSING,
-               choices: Sequence[str] | None = None) -> str:
+    def string(
+        self, name: str, default: Any = _MISSING, choices: Sequence[str] | None = None
+    ) -> str:
         value = self.raw(name, default)
         if not isinstance(value, str):
             raise self.error(name, f"expected a string, got {value!r}")
@@ -72,11 +80,15 @@ class Table:
             raise self.error(name, f"expected one of {', '.join(choices)}, got {value!r}")
         return value
 
-    def vector(self, name: str, length: int, default: Any = _MISSING, *,
-               positive: bool = False) -> tuple[float, ...]:
+    def vector(
+        self, name: str, length: int, default: Any = _MISSING, *, positive: bool = False
+    ) -> tuple[float, ...]:
         value = self.raw(name, default)
-        if (not isinstance(value, list | tuple) or len(value) != length
-                or any(isinstance(v, bool) or not isinstance(v, int | float) for v in value)):
+        if (
+            not isinstance(value, list | tuple)
+            or len(value) != length
+            or any(isinstance(v, bool) or not isinstance(v, int | float) for v in value)
+        ):
             raise self.error(name, f"expected a list of {length} numbers, got {value!r}")
         out = tuple(float(v) for v in value)
         if not all(math.isfinite(v) for v in out):

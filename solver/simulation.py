@@ -18,7 +18,7 @@ from solver.advection import SCHEMES, advect
 from solver.boundary import DomainBoundary
 from solver.faces import FLUID, STATIC_SOLID, classify_faces
 from solver.grid import Grid
-from solver.interp import sample_many
+from solver.interp import sample_cells_fluid, sample_many
 from solver.pcg import SolveReport
 from solver.probes import Probe
 from solver.projection import divergence_sum, project
@@ -141,7 +141,9 @@ class Simulation:
         t0 = time.perf_counter()
         vel = (st.comps[0], st.comps[1], st.comps[2])
         scheme = SCHEMES[cfg.advection]
-        new = [advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme) for a in range(g.dim)]
+        new = [
+            advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme) for a in range(g.dim)
+        ]
         for a in range(g.dim):
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]
@@ -160,8 +162,15 @@ class Simulation:
         rho = self.fluid.density_kg_m3
         phi = st.pressure * (dt_s / rho)
         report = project(
-            st.comps, st.face_types, st.label, g.dim, g.cell_size_m, self._kinds, phi,
-            cfg.pressure_tolerance, cfg.max_iterations,
+            st.comps,
+            st.face_types,
+            st.label,
+            g.dim,
+            g.cell_size_m,
+            self._kinds,
+            phi,
+            cfg.pressure_tolerance,
+            cfg.max_iterations,
         )
         st.pressure = phi * (rho / dt_s)
         t4 = time.perf_counter()
@@ -182,8 +191,20 @@ class Simulation:
         centre, vel, omega, _ = self.rigid_motion()
         rigid = np.stack([centre, vel, omega])
         return tuple(
-            diffuse(st.comps[a], st.face_types[a], a, g.dim, coeff, self._kinds, self._side_vel,
-                    st.label, rigid, g.cell_size_m, cfg.viscosity_tolerance, cfg.max_iterations)
+            diffuse(
+                st.comps[a],
+                st.face_types[a],
+                a,
+                g.dim,
+                coeff,
+                self._kinds,
+                self._side_vel,
+                st.label,
+                rigid,
+                g.cell_size_m,
+                cfg.viscosity_tolerance,
+                cfg.max_iterations,
+            )
             for a in range(g.dim)
         )
 
@@ -217,8 +238,18 @@ class Simulation:
         for a in range(g.dim):
             open_lo = bool(self._kinds[a, 0] == 3)
             open_hi = bool(self._kinds[a, 1] == 3)
-            classify_faces(st.label, a, open_lo, open_hi, centre, vel, omega, g.cell_size_m,
-                           st.face_types[a], st.comps[a])
+            classify_faces(
+                st.label,
+                a,
+                open_lo,
+                open_hi,
+                centre,
+                vel,
+                omega,
+                g.cell_size_m,
+                st.face_types[a],
+                st.comps[a],
+            )
         self.boundary.apply_normal(st.comps)
 
     # -- forces ---------------------------------------------------------------------------------
@@ -233,14 +264,30 @@ class Simulation:
         centre, vel, omega, ref = self.rigid_motion()
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-        stress_integral(st.label, st.comps[0], st.comps[1], st.comps[2], st.pressure,
-                        self.fluid.dynamic_viscosity_pa_s, g.cell_size_m, d, centre, vel, omega,
-                        ref, fp, fv, tq)
+        stress_integral(
+            st.label,
+            st.comps[0],
+            st.comps[1],
+            st.comps[2],
+            st.pressure,
+            self.fluid.dynamic_viscosity_pa_s,
+            g.cell_size_m,
+            d,
+            centre,
+            vel,
+            omega,
+            ref,
+            fp,
+            fv,
+            tq,
+        )
         for i, probe in enumerate(self.probes):
             torque = float(tq[i, 2]) if d == 2 else tq[i].copy()
             self.forces[probe.name] = ProbeForce(
-                force=(fp[i, :d] + fv[i, :d]).copy(), torque=torque,
-                pressure_force=fp[i, :d].copy(), viscous_force=fv[i, :d].copy(),
+                force=(fp[i, :d] + fv[i, :d]).copy(),
+                torque=torque,
+                pressure_force=fp[i, :d].copy(),
+                viscous_force=fv[i, :d].copy(),
             )
 
     def _approximate_forces(self) -> None:
@@ -251,14 +298,18 @@ class Simulation:
             area = float(area_fn(d)) if area_fn else 2.0 * probe.shape.bounding_radius_m
             v = probe.velocity_m_s
             if cfg.force_model == "drag":
-                f = drag_models.quadratic_drag(v, self.fluid.density_kg_m3, area,
-                                               cfg.drag_coefficient)
+                f = drag_models.quadratic_drag(
+                    v, self.fluid.density_kg_m3, area, cfg.drag_coefficient
+                )
             else:
-                f = drag_models.viscous_drag(v, self.fluid.dynamic_viscosity_pa_s, area,
-                                             cfg.drag_coefficient)
+                f = drag_models.viscous_drag(
+                    v, self.fluid.dynamic_viscosity_pa_s, area, cfg.drag_coefficient
+                )
             zero = np.zeros(d)
             self.forces[probe.name] = ProbeForce(
-                force=f, torque=0.0 if d == 2 else np.zeros(3), pressure_force=zero,
+                force=f,
+                torque=0.0 if d == 2 else np.zeros(3),
+                pressure_force=zero,
                 viscous_force=zero,
             )
 
@@ -293,8 +344,10 @@ class Simulation:
         )
 
     def pressure_at(self, points_m: np.ndarray) -> np.ndarray:
-        """Interpolated pressure (Pa) at world points (n, dim) -> (n,)."""
-        return sample_many(self.state.pressure, -1, self._relative(points_m), self.grid.cell_size_m)
+        """Pressure (Pa) at world points (n, dim) -> (n,), interpolated from fluid cells only."""
+        return sample_cells_fluid(
+            self.state.pressure, self.state.label, self._relative(points_m), self.grid.cell_size_m
+        )
 
     def _relative(self, points_m: np.ndarray) -> np.ndarray:
         pts = np.atleast_2d(np.asarray(points_m, dtype=float))

@@ -40,16 +40,33 @@ def _tangential_derivative(q, b, t, i, j, k, h):
     hi = idx + 1 if idx + 1 < n[t] else idx
     if hi == lo:
         return 0.0
-    vlo = _cell_value(q, b, i + (lo - idx) * (t == 0), j + (lo - idx) * (t == 1),
-                      k + (lo - idx) * (t == 2))
-    vhi = _cell_value(q, b, i + (hi - idx) * (t == 0), j + (hi - idx) * (t == 1),
-                      k + (hi - idx) * (t == 2))
+    vlo = _cell_value(
+        q, b, i + (lo - idx) * (t == 0), j + (lo - idx) * (t == 1), k + (lo - idx) * (t == 2)
+    )
+    vhi = _cell_value(
+        q, b, i + (hi - idx) * (t == 0), j + (hi - idx) * (t == 1), k + (hi - idx) * (t == 2)
+    )
     return (vhi - vlo) / ((hi - lo) * h)
 
 
 @njit(cache=True, nogil=True)
-def stress_integral(label, comps_u, comps_v, comps_w, pressure, mu, h, dim, centre, vel, omega,
-                    reference, f_pressure, f_viscous, torque):
+def stress_integral(
+    label,
+    comps_u,
+    comps_v,
+    comps_w,
+    pressure,
+    mu,
+    h,
+    dim,
+    centre,
+    vel,
+    omega,
+    reference,
+    f_pressure,
+    f_viscous,
+    torque,
+):
     """Accumulate per-probe pressure force, viscous force and torque (arrays (n_probes, 3))."""
     nx, ny, nz = label.shape
     shape = (nx, ny, nz)
@@ -78,7 +95,9 @@ def stress_integral(label, comps_u, comps_v, comps_w, pressure, mu, h, dim, cent
                         zf = (k + 0.5 + 0.5 * s * (b == 2)) * h
                         pg = pressure[gi, gj, gk]
                         qb = comps[b]
-                        dndn = (qb[gi + (b == 0), gj + (b == 1), gk + (b == 2)] - qb[gi, gj, gk]) / h
+                        dndn = (
+                            qb[gi + (b == 0), gj + (b == 1), gk + (b == 2)] - qb[gi, gj, gk]
+                        ) / h
                         f_pressure[p, b] += -pg * s * area
                         traction[:] = 0.0
                         traction[b] = 2.0 * mu * dndn * s
@@ -86,7 +105,9 @@ def stress_integral(label, comps_u, comps_v, comps_w, pressure, mu, h, dim, cent
                             if t == b:
                                 continue
                             qt = comps[t]
-                            ut = 0.5 * (qt[gi, gj, gk] + qt[gi + (t == 0), gj + (t == 1), gk + (t == 2)])
+                            ut = 0.5 * (
+                                qt[gi, gj, gk] + qt[gi + (t == 0), gj + (t == 1), gk + (t == 2)]
+                            )
                             wall = rigid_velocity(centre, vel, omega, p, xf, yf, zf, t)
                             dub_dxt = _tangential_derivative(qb, b, t, gi, gj, gk, h)
                             traction[t] = mu * (2.0 * (ut - wall) / h + s * dub_dxt)

@@ -19,8 +19,9 @@ from solver.pcg import SolveReport, StencilSystem, solve
 def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     """Component ``axis`` of the solid's velocity on the surface between face (i, j, k) and its
     solid neighbour (ii, jj, kk) across axis ``b`` (direction ``s``)."""
-    owner = label[min(ii, label.shape[0] - 1), min(jj, label.shape[1] - 1),
-                  min(kk, label.shape[2] - 1)]
+    owner = label[
+        min(ii, label.shape[0] - 1), min(jj, label.shape[1] - 1), min(kk, label.shape[2] - 1)
+    ]
     if owner < 0:
         li, lj, lk = ii - (axis == 0), jj - (axis == 1), kk - (axis == 2)
         if li >= 0 and lj >= 0 and lk >= 0:
@@ -35,8 +36,22 @@ def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
 
 @njit(cache=True, nogil=True)
 def build_viscosity_system(
-    q, face_type, axis, dim, coeff, kinds, side_vel, label, rigid, h,
-    diag, offx, offy, offz, active, rhs,
+    q,
+    face_type,
+    axis,
+    dim,
+    coeff,
+    kinds,
+    side_vel,
+    label,
+    rigid,
+    h,
+    diag,
+    offx,
+    offy,
+    offz,
+    active,
+    rhs,
 ):
     """Assemble the backward-Euler diffusion system for component ``axis``.
 
@@ -85,8 +100,12 @@ def build_viscosity_system(
                                     offz[i, j, k] = -coeff
                         elif t == INTERIOR and b != axis:
                             d += 2.0 * coeff
-                            r += 2.0 * coeff * _surface_velocity(
-                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
+                            r += (
+                                2.0
+                                * coeff
+                                * _surface_velocity(
+                                    label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
+                                )
                             )
                         else:
                             d += coeff
@@ -113,7 +132,21 @@ def diffuse(
     system = StencilSystem.empty(q.shape, dim)
     rhs = np.empty_like(q)
     build_viscosity_system(
-        q, face_type, axis, dim, coeff, kinds, side_vel, label, rigid, h,
-        system.diag, system.off[0], system.off[1], system.off[2], system.active, rhs,
+        q,
+        face_type,
+        axis,
+        dim,
+        coeff,
+        kinds,
+        side_vel,
+        label,
+        rigid,
+        h,
+        system.diag,
+        system.off[0],
+        system.off[1],
+        system.off[2],
+        system.active,
+        rhs,
     )
     return solve(system, rhs, q, tol, max_iter)

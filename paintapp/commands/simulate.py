@@ -7,11 +7,11 @@ import json
 import sys
 
 import numpy as np
-from solver.runner import NonFiniteError, run_scene
-from solver.scene import load_scene
 from tqdm import tqdm
 
 from paintapp.atomic import atomic_write_text
+from solver.runner import NonFiniteError, run_scene
+from solver.scene import load_scene
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -31,8 +31,10 @@ def run(args: argparse.Namespace) -> int:
         scene.run = type(scene.run)(scene.run.dt_s, args.steps)
     g = scene.grid
     cells = "x".join(str(c) for c in g.cells[: g.dim])
-    print(f"scene {scene.name}: {g.dim}D {cells} cells, h = {g.cell_size_m:.4g} m, "
-          f"{len(scene.probes)} probe(s), {scene.run.steps} steps of {scene.run.dt_s:g} s")
+    print(
+        f"scene {scene.name}: {g.dim}D {cells} cells, h = {g.cell_size_m:.4g} m, "
+        f"{len(scene.probes)} probe(s), {scene.run.steps} steps of {scene.run.dt_s:g} s"
+    )
     with tqdm(total=scene.run.steps, unit="step", file=sys.stderr, leave=False) as bar:
         try:
             results = run_scene(scene, progress=bar.update)
@@ -48,16 +50,22 @@ def run(args: argparse.Namespace) -> int:
 
 def _summarise(results: dict) -> None:
     t = results["timing"]
-    print(f"median step {t['median_step_ms']:.3f} ms; pressure PCG "
-          f"{t['pressure_iterations']['mean']:.1f} iterations (max residual "
-          f"{t['pressure_max_residual']:.1e}); max |div u| "
-          f"{results['diagnostics']['max_abs_divergence_per_s']:.2e} 1/s")
+    print(
+        f"median step {t['median_step_ms']:.3f} ms; pressure PCG "
+        f"{t['pressure_iterations']['mean']:.1f} iterations (max residual "
+        f"{t['pressure_max_residual']:.1e}); max |div u| "
+        f"{results['diagnostics']['max_abs_divergence_per_s']:.2e} 1/s"
+    )
     for name, rec in results["probes"].items():
         if rec["force"]:
             f = np.asarray(rec["force"][-1])
             tq = rec["torque"][-1]
-            print(f"probe {name}: final force {np.array2string(f, precision=5)}, "
-                  f"torque {np.array2string(np.asarray(tq), precision=5)}")
+            print(
+                f"probe {name}: final force {np.array2string(f, precision=5)}, "
+                f"torque {np.array2string(np.asarray(tq), precision=5)}"
+            )
     for name, rec in results["points"].items():
-        print(f"point {name}: p = {rec['pressure']:.5g} Pa, u = "
-              f"{np.array2string(np.asarray(rec['velocity']), precision=5)} m/s")
+        print(
+            f"point {name}: p = {rec['pressure']:.5g} Pa, u = "
+            f"{np.array2string(np.asarray(rec['velocity']), precision=5)} m/s"
+        )

@@ -1,0 +1,242 @@
+"""The canvas renderer: Kubelka-Munk paint colour, impasto lighting and overlays with moderngl.
+
+Typical use (the painting loop)::
+
+    renderer = CanvasRenderer(ctx, library)
+    renderer.update(canvas)                 # uploads only the canvas's dirty region
+    renderer.render(size=(w, h), view=view, outlines=[...], arrows=[...], framebuffer=fbo)
+
+and headless export::
+
+    rgba = renderer.render_linear_rgba(canvas)   # (H, W, 4) float32, row 0 = canvas bottom
+
+Output is linear scene-referred RGB with sRGB/Rec.709 primaries under D65 (see
+:mod:`paintapp.pigments_spectral`); alpha is 1 on the canvas.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import moderngl
+import numpy as np
+
+from paintapp.canvas import MAX_PIGMENTS, Canvas
+from paintapp.canvas_region import Box
+from paintapp.pigments import PigmentLibrary
+from paintapp.pigments_bands import Bands, BandTable, band_table
+from paintapp.render.context import load_program
+from paintapp.render.overlays import BrushOutline, ForceArrow, arrow_triangles, outline_triangles
+from paintapp.render.textures import CanvasTextures
+from paintapp.render.view import Lighting, ViewRect
+
+#: Colour outside the canvas, linear RGBA.
+BACKGROUND = (0.02, 0.02, 0.02, 1.0)
+
+
+class CanvasRenderer:
+    """Draws one canvas at a time into an offscreen float target or a given framebuffer.
+
+    Args:
+        ctx: an OpenGL 3.3+ context (see :func:`paintapp.render.context.create_headless_context`).
+        library: where the canvas's pigments come from.
+        bands: spectral bands of the mixing (must be a multiple of 4 bands).
+        lighting: the initial light; change it with the ``lighting`` attribute.
+    """
+
+    def __init__(
+        self,
+        ctx: moderngl.Context,
+        library: PigmentLibrary,
+        bands: Bands | None = None,
+        lighting: Lighting | None = None,
+    ) -> None:
+        self.ctx = ctx
+        self.library = library
+        self.bands = bands or Bands()
+        if self.bands.count % 4:
+            raise ValueError(f"the shader needs a multiple of 4 bands, got {self.bands.count}")
+        self.lighting = lighting or Lighting()
+        self.table: BandTable | None = None
+        self._textures: CanvasTextures | None = None
+        self._canvas_size_m = (1.0, 1.0)
+        self._texel_m = (1.0, 1.0)
+        self._target: moderngl.Framebuffer | None = None
+        self._programs: dict[int, moderngl.Program] = {}
+        self._overlay = load_program(ctx, "overlay")
+        quad = np.zeros((4, 2), np.float32)
+        self._quad = ctx.buffer(quad.tobytes())
+        self._quad_vaos: dict[int, moderngl.VertexArray] = {}
+
+    # --- canvas upload ------------------------------------------------------------------------
+    def _canvas_program(self, layers: int) -> moderngl.Program:
+        if layers not in self._programs:
+            defines = {"N_GROUPS": self.bands.count // 4, "MAX_PIGMENTS": MAX_PIGMENTS}
+            self._programs[layers] = load_program(
+                self.ctx, "canvas", {**defines, "N_LAYERS": layers}
+            )
+        return self._programs[layers]
+
+    def update(self, canvas: Canvas) -> Box | None:
+        """Bring the GPU copy up to date with ``canvas``; returns the texel box uploaded.
+
+        Only the canvas's dirty region is sent (``canvas.take_dirty()``). A new pigment appended
+        to the canvas costs nothing more while it fits the existing texture layers (its channel
+        is zero everywhere); a new canvas size, a reordered pigment list or a fifth (ninth, ...)
+        pigment rebuilds the textures and uploads everything.
+        """
+        names = canvas.pigment_names
+        if self.table is None or self.table.names != names:
+            appended = self.table is not None and names[: len(self.table.names)] == self.table.names
+            self.table = band_table(self.library.require(names), self.bands)
+            if not appended:
+                canvas.mark_all_dirty()
+        if self._textures is None or not self._textures.fits(canvas):
+            if self._textures is not None:
+                self._textures.release()
+            self._textures = CanvasTextures(self.ctx, canvas.pixels, len(names))
+            canvas.mark_all_dirty()
+        self._textures.pigment_count = len(names)
+        self._canvas_size_m = canvas.size_m
+        self._texel_m = canvas.texel_size_m
+        box = canvas.take_dirty()
+        if box is not None:
+            self._textures.upload(canvas, box)
+        return box
+
+    def _set_uniforms(self, program: moderngl.Program, view: ViewRect) -> None:
+        table = self.table
+        assert table is not None
+        p = len(table.names)
+        k = np.zeros((MAX_PIGMENTS, self.bands.count), np.float32)
+        s = np.zeros_like(k)
+        k[:p], s[:p] = table.k_per_m, table.s_per_m
+        program["u_view"].write(view.matrix().T.copy().tobytes())
+        program["u_concentration"].value = 0
+        program["u_surface"].value = 1
+        program["u_canvas_size_m"].value = self._canvas_size_m
+        program["u_texel_m"].value = self._texel_m
+        program["u_pigment_count"].value = p
+        _write_vec4_array(program, "u_k", k)
+        _write_vec4_array(program, "u_s", s)
+        _write_vec4_array(program, "u_ground", table.ground)
+        for i, channel in enumerate("rgb"):
+            _write_vec4_array(program, f"u_band_{channel}", table.band_to_rgb[i])
+        light = self.lighting
+        program["u_lighting"].value = light.enabled
+        program["u_light_dir"].value = tuple(float(v) for v in light.direction())
+        for name in ("ambient", "relief", "specular", "shininess"):
+            program[f"u_{name}"].value = float(getattr(light, name))
+
+    # --- drawing ------------------------------------------------------------------------------
+    def _offscreen(self, size: tuple[int, int]) -> moderngl.Framebuffer:
+        if self._target is None or self._target.size != tuple(size):
+            if self._target is not None:
+                self._target.color_attachments[0].release()
+                self._target.release()
+            colour = self.ctx.renderbuffer(tuple(size), 4, dtype="f4")
+            self._target = self.ctx.framebuffer(color_attachments=[colour])
+        return self._target
+
+    def render(
+        self,
+        size: tuple[int, int] | None = None,
+        view: ViewRect | None = None,
+        outlines: Sequence[BrushOutline] = (),
+        arrows: Sequence[ForceArrow] = (),
+        framebuffer: moderngl.Framebuffer | None = None,
+    ) -> None:
+        """Draw the canvas (as last updated) and overlays.
+
+        Args:
+            size: output (W, H) pixels; default the canvas's pixels (or the framebuffer's size).
+            view: canvas rectangle shown; default the whole canvas.
+            outlines, arrows: brush outlines and force arrows to draw on top.
+            framebuffer: target (e.g. a window's); default an offscreen RGBA32F target that
+                :meth:`read_linear_rgba` reads back.
+        """
+        textures = self._textures
+        if textures is None:
+            raise RuntimeError("call update(canvas) before render()")
+        if framebuffer is None:
+            framebuffer = self._offscreen(size or textures.pixels)
+        size = size or framebuffer.size
+        view = view or ViewRect.whole(self._canvas_size_m)
+        framebuffer.use()
+        self.ctx.viewport = (0, 0, *size)
+        self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
+        framebuffer.clear(*BACKGROUND)
+        program = self._canvas_program(textures.layers)
+        self._set_uniforms(program, view)
+        textures.concentration.use(0)
+        textures.surface.use(1)
+        w, h = self._canvas_size_m
+        self._quad.write(np.array([[0, 0], [w, 0], [0, h], [w, h]], np.float32).tobytes())
+        vao = self._quad_vaos.get(textures.layers)
+        if vao is None:
+            vao = self.ctx.vertex_array(program, [(self._quad, "2f", "in_pos_m")])
+            self._quad_vaos[textures.layers] = vao
+        vao.render(moderngl.TRIANGLE_STRIP)
+        self._draw_overlays(view, size, outlines, arrows)
+
+    def _draw_overlays(
+        self,
+        view: ViewRect,
+        size: tuple[int, int],
+        outlines: Sequence[BrushOutline],
+        arrows: Sequence[ForceArrow],
+    ) -> None:
+        pixel_m = view.metres_per_pixel(size)
+        shapes = [(outline_triangles(o, pixel_m), o.color) for o in outlines]
+        shapes += [(arrow_triangles(a, pixel_m), a.color) for a in arrows]
+        if not shapes:
+            return
+        self.ctx.enable(moderngl.BLEND)
+        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        self._overlay["u_view"].write(view.matrix().T.copy().tobytes())
+        for triangles, color in shapes:
+            if len(triangles) == 0:
+                continue
+            buffer = self.ctx.buffer(triangles.tobytes())
+            vao = self.ctx.vertex_array(self._overlay, [(buffer, "2f", "in_pos_m")])
+            self._overlay["u_color"].value = tuple(float(c) for c in color)
+            vao.render(moderngl.TRIANGLES)
+            vao.release()
+            buffer.release()
+        self.ctx.disable(moderngl.BLEND)
+
+    def read_linear_rgba(self) -> np.ndarray:
+        """The last offscreen render as linear RGBA, (H, W, 4) float32, row 0 = bottom."""
+        if self._target is None:
+            raise RuntimeError("nothing rendered offscreen yet")
+        w, h = self._target.size
+        data = self._target.read(components=4, dtype="f4")
+        return np.frombuffer(data, np.float32).reshape(h, w, 4).copy()
+
+    def render_linear_rgba(self, canvas: Canvas, **kwargs) -> np.ndarray:
+        """``update`` + ``render`` (offscreen, 1 texel per pixel by default) + readback."""
+        self.update(canvas)
+        self.render(**kwargs)
+        return self.read_linear_rgba()
+
+    def release(self) -> None:
+        """Free the GPU resources (the context itself is the caller's)."""
+        if self._textures is not None:
+            self._textures.release()
+        for vao in self._quad_vaos.values():
+            vao.release()
+        for program in (*self._programs.values(), self._overlay):
+            program.release()
+        self._quad.release()
+        if self._target is not None:
+            self._target.release()
+
+
+def _write_vec4_array(program: moderngl.Program, name: str, values: np.ndarray) -> None:
+    """Write a vec4 array uniform; the GLSL compiler may trim unused tail elements, so the data
+    is cut to the active length."""
+    uniform = program.get(name, None)
+    if uniform is None:  # optimised out entirely
+        return
+    data = np.asarray(values, np.float32).reshape(-1)[: 4 * uniform.array_length]
+    uniform.write(data.tobytes())

@@ -1,0 +1,60 @@
+"""Probes: voxelized area, keyframed paths and the velocities they imply."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from solver import rotation
+from solver.grid import Grid
+from solver.probes import Probe
+from solver.shapes import Ball, Box
+
+
+def test_voxelized_circle_and_sphere_have_the_right_size():
+    g2 = Grid.from_size((1.0, 1.0), (128, 128))
+    _window, mask = Probe("c", Ball(0.2), 2, np.array([0.5, 0.5])).voxelize(g2)
+    assert mask.sum() * g2.cell_size_m**2 == pytest.approx(np.pi * 0.04, rel=0.01)
+    g3 = Grid.from_size((1.0, 1.0, 1.0), (48, 48, 48))
+    _, mask3 = Probe("s", Ball(0.3), 3, np.array([0.5, 0.5, 0.5])).voxelize(g3)
+    assert mask3.sum() * g3.cell_size_m**3 == pytest.approx(4 / 3 * np.pi * 0.027, rel=0.02)
+
+
+def test_rotated_box_is_rotated():
+    g = Grid.from_size((1.0, 1.0), (100, 100))
+    box = Probe("b", Box((0.6, 0.1)), 2, np.array([0.5, 0.5]), np.pi / 2)
+    window, mask = box.voxelize(g)
+    full = np.zeros(g.cells, dtype=bool)
+    full[window] = mask
+    xs, ys = np.nonzero(full[:, :, 0])
+    assert np.ptp(ys) > 5 * np.ptp(xs)  # long along y after a quarter turn
+
+
+def test_path_interpolates_and_sets_average_velocity_2d():
+    path = np.array([[0.0, 0.2, 0.5, 0.0], [1.0, 0.6, 0.5, 1.0], [2.0, 0.6, 0.9, 1.0]])
+    p = Probe("p", Ball(0.05), 2, np.array([0.0, 0.0]), path=path)
+    assert np.allclose(p.centre_m, [0.2, 0.5])
+    p.advance(0.25, 0.5)
+    assert np.allclose(p.centre_m, [0.5, 0.5])
+    assert np.allclose(p.velocity_m_s, [0.4, 0.0])
+    assert p.angular_velocity_rad_s == pytest.approx(1.0)
+    p.advance(0.9, 0.2)  # straddles a keyframe: the average over the step
+    assert np.allclose(p.velocity_m_s, ((0.6, 0.54) - np.array([0.56, 0.5])) / 0.2)
+    p.advance(5.0, 0.1)  # held after the last keyframe
+    assert np.allclose(p.velocity_m_s, 0.0) and np.allclose(p.centre_m, [0.6, 0.9])
+
+
+def test_path_orientation_3d_gives_angular_velocity():
+    q1 = rotation.from_rotation_vector(np.array([0.0, 0.0, np.pi / 2]))
+    path = np.array([[0.0, 0.5, 0.5, 0.5, 1.0, 0.0, 0.0, 0.0], [1.0, 0.5, 0.5, 0.5, *q1]])
+    p = Probe("p", Box((0.2, 0.1, 0.1)), 3, np.zeros(3), path=path)
+    p.advance(0.0, 0.5)
+    assert np.allclose(p.angular_velocity_rad_s, [0.0, 0.0, np.pi / 2])
+    assert np.allclose(rotation.to_rotation_vector(p.orientation), [0.0, 0.0, np.pi / 4])
+
+
+def test_constant_spin_3d_integrates_orientation():
+    p = Probe("p", Ball(0.1), 3, np.zeros(3), None, np.zeros(3), np.array([0.0, 2.0, 0.0]))
+    for _ in range(10):
+        p.advance(0.0, 0.05)
+    assert np.allclose(rotation.to_rotation_vector(p.orientation), [0.0, 1.0, 0.0])
