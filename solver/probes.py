@@ -112,6 +112,22 @@ class Probe:
             rel = rotation.multiply(np.asarray(o1), rotation.conjugate(np.asarray(o0)))
             self.angular_velocity_rad_s = rotation.to_rotation_vector(rel) / dt_s
 
+    def drive_to(self, centre_m: np.ndarray, orientation: np.ndarray | float, dt_s: float) -> None:
+        """Set the velocities that carry the probe to the given pose in one step of ``dt_s``.
+
+        For probes driven from outside (a stylus): call before each :meth:`Simulation.step`.
+        Clears any keyframed path.
+        """
+        self.path = None
+        centre = np.asarray(centre_m, dtype=float).reshape(self.dim)
+        self.velocity_m_s = (centre - self.centre_m) / dt_s
+        if self.dim == 2:
+            self.angular_velocity_rad_s = (float(orientation) - float(self.orientation)) / dt_s
+        else:
+            target = rotation.normalise(np.asarray(orientation, dtype=float))
+            rel = rotation.multiply(target, rotation.conjugate(np.asarray(self.orientation)))
+            self.angular_velocity_rad_s = rotation.to_rotation_vector(rel) / dt_s
+
     # -- geometry ---------------------------------------------------------------------------
     def rotation_matrix(self) -> np.ndarray:
         return rotation.rotation_matrix(self.dim, self.orientation)

@@ -208,6 +208,25 @@ class Simulation:
             for a in range(g.dim)
         )
 
+    # -- moving the grid ------------------------------------------------------------------------
+    def shift(self, offset_cells: tuple[int, ...]) -> None:
+        """Move the grid by whole cells (``offset_cells`` per active axis), keeping the state.
+
+        Samples that stay inside the grid keep their values; cells that enter it start at rest
+        with zero pressure (a caller may fill them, e.g. from a canvas, before the next step).
+        """
+        g = self.grid
+        off = [int(o) for o in offset_cells] + [0] * (3 - len(offset_cells))
+        if not any(off):
+            return
+        origin = tuple(g.origin_m[a] + off[a] * g.cell_size_m for a in range(3))
+        self.grid = Grid(g.dim, g.cells, g.cell_size_m, origin)  # type: ignore[arg-type]
+        st = self.state
+        st.comps = [_shifted(q, off) for q in st.comps]
+        st.pressure = _shifted(st.pressure, off)
+        self._rasterize()
+        self._apply_boundaries()
+
     # -- geometry and boundaries -------------------------------------------------------------
     def _rasterize(self) -> None:
         label = self.state.label
@@ -355,3 +374,17 @@ class Simulation:
         out = np.full((pts.shape[0], 3), 0.5 * self.grid.cell_size_m)
         out[:, :d] = pts[:, :d] - np.asarray(self.grid.origin_m)[:d]
         return out
+
+
+def _shifted(q: np.ndarray, off: list[int]) -> np.ndarray:
+    """``q`` moved so that new[i] = old[i + off]; entries from outside are zero."""
+    out = np.zeros_like(q)
+    src, dst = [], []
+    for a in range(3):
+        n, o = q.shape[a], off[a]
+        if abs(o) >= n:
+            return out
+        src.append(slice(max(o, 0), n + min(o, 0)))
+        dst.append(slice(max(-o, 0), n - max(o, 0)))
+    out[tuple(dst)] = q[tuple(src)]
+    return out

@@ -58,3 +58,23 @@ def test_constant_spin_3d_integrates_orientation():
     for _ in range(10):
         p.advance(0.0, 0.05)
     assert np.allclose(rotation.to_rotation_vector(p.orientation), [0.0, 1.0, 0.0])
+
+
+def test_drive_to_reaches_the_target_pose_in_one_step():
+    q = rotation.from_rotation_vector(np.array([0.3, -0.2, 0.5]))
+    p = Probe("p", Ball(0.1), 3, np.array([0.5, 0.5, 0.5]))
+    p.drive_to(np.array([0.52, 0.49, 0.5]), q, 0.01)
+    p.advance(0.0, 0.01)
+    assert np.allclose(p.centre_m, [0.52, 0.49, 0.5])
+    assert np.allclose(np.abs(p.orientation @ q), 1.0)
+    assert np.allclose(p.velocity_m_s, [2.0, -1.0, 0.0])
+
+
+def test_shifting_the_grid_keeps_the_fluid_in_place(build):
+    sim = build.sim(16, 2, nu=1e-3)
+    sim.state.comps[0][5, 7, 0] = 1.0
+    origin = np.array(sim.grid.origin_m)
+    sim.shift((2, -1))
+    assert np.allclose(np.array(sim.grid.origin_m) - origin, [2 / 16, -1 / 16, 0.0])
+    assert sim.state.comps[0][3, 8, 0] == 1.0
+    assert sim.state.comps[0].sum() == 1.0
