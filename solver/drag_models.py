@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-MODELS = ("stress", "drag", "viscous_drag")
+MODELS = ("stress", "control_volume", "drag", "viscous_drag")
 
 
 def quadratic_drag(

@@ -19,6 +19,7 @@ from solver.boundary import DomainBoundary
 from solver.faces import FLUID, STATIC_SOLID, classify_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
+from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.pcg import SolveReport
 from solver.probes import Probe
 from solver.projection import divergence_sum, project
@@ -43,7 +44,9 @@ class Fluid:
 class SolverSettings:
     """Numerical knobs: advection scheme (``linear`` | ``maccormack``), relative residual
     tolerances and iteration cap of the PCG solves, and the probe force model
-    (``stress`` integral, or the paper's ``drag`` / ``viscous_drag`` approximations)."""
+    (``stress`` integral; ``control_volume``, a momentum balance over a box around the probe that
+    is far less sensitive to the staircase boundary; or the paper's ``drag`` / ``viscous_drag``
+    approximations)."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -51,6 +54,7 @@ class SolverSettings:
     max_iterations: int = 1000
     force_model: str = "stress"
     drag_coefficient: float = 1.0
+    control_volume_margin: int = 3
 
 
 @dataclass(frozen=True)
@@ -128,6 +132,7 @@ class Simulation:
         self._kinds = self.boundary.kinds()
         self._side_vel = self.boundary.velocities()
         self._last_dt = 0.0
+        self._previous: tuple | None = None
         self._rasterize()
         self._apply_boundaries()
 
@@ -140,6 +145,7 @@ class Simulation:
         ms: dict[str, float] = {}
         t0 = time.perf_counter()
         vel = (st.comps[0], st.comps[1], st.comps[2])
+        self._previous = (vel, st.label.copy())
         scheme = SCHEMES[cfg.advection]
         new = [
             advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme) for a in range(g.dim)
@@ -175,11 +181,11 @@ class Simulation:
         st.pressure = phi * (rho / dt_s)
         t4 = time.perf_counter()
         ms["projection"] = 1e3 * (t4 - t3)
+        self._last_dt = dt_s
         self._compute_forces()
         t5 = time.perf_counter()
         ms["forces"] = 1e3 * (t5 - t4)
         self.time_s += dt_s
-        self._last_dt = dt_s
         return StepStats(self.time_s, 1e3 * (t5 - t0), ms, report, visc)
 
     def _diffuse(self, dt_s: float) -> tuple[SolveReport, ...]:
@@ -277,37 +283,52 @@ class Simulation:
             return
         g, st = self.grid, self.state
         d = g.dim
-        if self.settings.force_model != "stress":
+        if self.settings.force_model in ("drag", "viscous_drag"):
             self._approximate_forces()
             return
         centre, vel, omega, ref = self.rigid_motion()
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-        stress_integral(
-            st.label,
-            st.comps[0],
-            st.comps[1],
-            st.comps[2],
-            st.pressure,
-            self.fluid.dynamic_viscosity_pa_s,
-            g.cell_size_m,
-            d,
-            centre,
-            vel,
-            omega,
-            ref,
-            fp,
-            fv,
-            tq,
-        )
+        mu, h = self.fluid.dynamic_viscosity_pa_s, g.cell_size_m
+        comps = st.comps
+        stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure, mu, h, d,
+                        centre, vel, omega, ref, fp, fv, tq)  # fmt: skip
         for i, probe in enumerate(self.probes):
-            torque = float(tq[i, 2]) if d == 2 else tq[i].copy()
+            force, torque = fp[i] + fv[i], tq[i]
+            if self.settings.force_model == "control_volume":
+                balance = self._momentum_balance(i, ref[i])
+                if balance is not None:
+                    force, torque = balance
             self.forces[probe.name] = ProbeForce(
-                force=(fp[i, :d] + fv[i, :d]).copy(),
-                torque=torque,
+                force=force[:d].copy(),
+                torque=float(torque[2]) if d == 2 else torque.copy(),
                 pressure_force=fp[i, :d].copy(),
                 viscous_force=fv[i, :d].copy(),
             )
+
+    def _momentum_balance(
+        self, index: int, ref: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Force and torque on probe ``index`` from the control-volume momentum balance, or None
+        when no valid box fits (the caller keeps the surface integral)."""
+        g, st = self.grid, self.state
+        window = tuple(slice(0, c) for c in g.cells)
+        margin = self.settings.control_volume_margin
+        box = probe_box(window, st.label == index, g.cells, g.dim, margin)
+        if box is None or self._last_dt <= 0.0 or self._previous is None:
+            return None
+        lo, hi = box
+        h, rho, mu = g.cell_size_m, self.fluid.density_kg_m3, self.fluid.dynamic_viscosity_pa_s
+        u, v, w = st.comps
+        surface, now, before = np.zeros(6), np.zeros(6), np.zeros(6)
+        if not box_surface_flux(u, v, w, st.pressure, st.label, lo, hi, g.dim, h, rho, mu, ref,
+                                surface):  # fmt: skip
+            return None
+        box_momentum(u, v, w, st.label, lo, hi, g.dim, h, rho, ref, now)
+        (u0, v0, w0), label0 = self._previous
+        box_momentum(u0, v0, w0, label0, lo, hi, g.dim, h, rho, ref, before)
+        total = surface - (now - before) / self._last_dt
+        return total[:3], total[3:]
 
     def _approximate_forces(self) -> None:
         d = self.grid.dim

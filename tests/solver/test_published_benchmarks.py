@@ -1,0 +1,63 @@
+"""Agreement with published reference solutions (slow: seconds to a minute each).
+
+* Lid-driven cavity, Re = 100, against Ghia, Ghia & Shin (1982), at 128 x 128.
+* Schaefer & Turek (1996) benchmark 2D-1 (cylinder in a channel, Re = 20), at D/h = 20.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from paintapp.resources import asset_path
+from solver.runner import run_scene
+from solver.scene import load_scene
+
+GHIA_U = {  # y: u along the vertical centreline x = 0.5
+    0.9766: 0.84123, 0.9688: 0.78871, 0.9609: 0.73722, 0.9531: 0.68717, 0.8516: 0.23151,
+    0.7344: 0.00332, 0.6172: -0.13641, 0.5000: -0.20581, 0.4531: -0.21090, 0.2813: -0.15662,
+    0.1719: -0.10150, 0.1016: -0.06434, 0.0703: -0.04775, 0.0625: -0.04192, 0.0547: -0.03717,
+}  # fmt: skip
+GHIA_V = {  # x: v along the horizontal centreline y = 0.5
+    0.9688: -0.05906, 0.9531: -0.08864, 0.9063: -0.16914, 0.8594: -0.22445, 0.8047: -0.24533,
+    0.5000: 0.05454, 0.2344: 0.17527, 0.1563: 0.16077, 0.0938: 0.12317, 0.0625: 0.09233,
+}  # fmt: skip
+
+
+@pytest.mark.slow
+def test_lid_driven_cavity_matches_ghia_at_128():
+    scene = load_scene(asset_path("scenes", "lid_cavity_re100.toml"))
+    scene.run = dataclasses.replace(scene.run, steps=2000)  # 20 s: steady to 1e-4
+    result = run_scene(scene)
+    line = result["lines"]["u_vertical_centreline"]
+    pts, vel = np.array(line["points"]), np.array(line["velocity"])
+    u = np.interp(list(GHIA_U), pts[:, 1], vel[:, 0])
+    line = result["lines"]["v_horizontal_centreline"]
+    pts, vel = np.array(line["points"]), np.array(line["velocity"])
+    v = np.interp(list(GHIA_V), pts[:, 0], vel[:, 1])
+    err_u = np.abs(u - np.array(list(GHIA_U.values()))).max()
+    err_v = np.abs(v - np.array(list(GHIA_V.values()))).max()
+    assert err_u < 0.02 and err_v < 0.02  # measured: 0.0024 and 0.0072
+
+
+@pytest.mark.slow
+def test_schaefer_turek_2d1_drag_and_pressure_difference():
+    scene = load_scene(asset_path("scenes", "schaefer_turek_2d1.toml"))
+    assert scene.settings.force_model == "control_volume"
+    scene.run = dataclasses.replace(scene.run, steps=400)  # 4 s: steady to 1e-4 in c_D
+    result = run_scene(scene)
+    force = np.array(result["probes"]["cylinder"]["force"])
+    surface = np.array(result["probes"]["cylinder"]["pressure_force"]) + np.array(
+        result["probes"]["cylinder"]["viscous_force"]
+    )
+    scale = 2.0 / (1.0 * 0.2**2 * 0.1)  # 2 / (rho U_mean^2 D)
+    c_d, c_l = scale * force[-1, 0], scale * force[-1, 1]
+    assert abs(scale * (force[-1, 0] - force[-50, 0])) < 1e-3  # steady
+    assert c_d == pytest.approx(5.5795, rel=0.05)
+    assert abs(c_l) < 0.05
+    # the staircase surface integral of the paper is biased high at this resolution
+    assert 5.5795 < scale * surface[-1, 0] < 1.10 * 5.5795
+    dp = result["points"]["front"]["pressure"] - result["points"]["back"]["pressure"]
+    assert dp == pytest.approx(0.11752, rel=0.15)
