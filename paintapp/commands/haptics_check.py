@@ -1,0 +1,69 @@
+"""``paintapp haptics-check [--seconds S]``: how well the 1 kHz servo loop keeps time.
+
+Runs the real-time servo loop with the simulated device for S seconds idle, then S seconds beside
+a running 3D simulation, and prints achieved rate, lateness percentiles, missed deadlines and the
+cost of a tick side by side.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from tqdm import tqdm
+
+from paintapp.haptics.check import format_table, load_simulation, run_once
+from paintapp.haptics.filters import FILTER_KINDS, FilterConfig
+from paintapp.haptics.fluid import FluidConfig
+from paintapp.haptics.servo import ServoConfig
+from solver.errors import InputError
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "haptics-check",
+        help="run the 1 kHz haptic servo loop (simulated device) idle and under load; print timing",
+    )
+    p.add_argument("--seconds", type=float, default=3.0, help="length of each run (default 3)")
+    p.add_argument("--scale", type=float, default=4.0, help="fluid force scale (default 4)")
+    p.add_argument("--filter", choices=FILTER_KINDS, default="fir", help="reconstruction filter")
+    p.add_argument("--idle-only", action="store_true", help="skip the run beside the simulation")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    if not 0.1 <= args.seconds <= 600:
+        raise InputError(f"--seconds must be between 0.1 and 600, got {args.seconds}")
+    config = ServoConfig(
+        filter=FilterConfig(kind=args.filter), fluid=FluidConfig(force_scale=args.scale)
+    )
+    simulation = None if args.idle_only else load_simulation()
+    print(
+        f"haptics-check: simulated 6-DOF stylus, servo thread at {1 / config.tick_s:.0f} Hz, "
+        f"{args.filter} filter, force scale {args.scale:g}, {args.seconds:g} s per run"
+    )
+    if simulation is not None:
+        print(f"load: {simulation[1]}")
+    runs = []
+    for sim in [None] if simulation is None else [None, simulation]:
+        label = "idle" if sim is None else "beside 3D simulation"
+        with tqdm(
+            total=args.seconds,
+            desc=label,
+            unit="s",
+            file=sys.stderr,
+            leave=False,
+            disable=None,
+            bar_format="{desc}: {n:.1f}/{total:.1f} s",
+        ) as bar:
+
+            def progress(elapsed: float, bar: tqdm = bar) -> None:
+                bar.n = elapsed
+                bar.refresh()
+
+            runs.append(run_once(args.seconds, config, sim, progress))
+    print(format_table(runs))
+    worst = max(r.report.timing.missed_deadlines / max(r.report.timing.ticks, 1) for r in runs)
+    verdict = "ok" if worst < 0.02 else "late: more than 2 % of the scheduled ticks were missed"
+    print(f"verdict: {verdict}")
+    return 0
