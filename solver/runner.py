@@ -29,6 +29,7 @@ def run_scene(scene: Scene, progress: Callable[[int], None] | None = None) -> di
     stats: list[StepStats] = []
     for n in range(scene.run.steps):
         st = sim.step(scene.run.dt_s)
+        _check_solves(st)
         stats.append(st)
         times.append(sim.time_s)
         for name, f in sim.forces.items():
@@ -62,6 +63,17 @@ def run_scene(scene: Scene, progress: Callable[[int], None] | None = None) -> di
     }
 
 
+def _check_solves(stats: StepStats) -> None:
+    """A non-finite residual means the solve broke down (values beyond floating point's range)."""
+    reports = [("pressure", stats.pressure)] + [("viscosity", r) for r in stats.viscosity]
+    for name, report in reports:
+        if not np.isfinite(report.residual):
+            raise NonFiniteError(
+                f"the {name} solve broke down (non-finite residual) at t = {stats.time_s:g} s; "
+                "are the velocities or the time step beyond a sensible range?"
+            )
+
+
 def _check_finite(sim: Simulation) -> None:
     st = sim.state
     for a in range(sim.grid.dim):
@@ -69,6 +81,8 @@ def _check_finite(sim: Simulation) -> None:
             raise NonFiniteError(f"non-finite velocity at t = {sim.time_s:g} s")
     if not np.all(np.isfinite(st.pressure)):
         raise NonFiniteError(f"non-finite pressure at t = {sim.time_s:g} s")
+    if not np.isfinite(sim.kinetic_energy()):
+        raise NonFiniteError(f"the kinetic energy overflows at t = {sim.time_s:g} s")
 
 
 def _lines(sim: Simulation, scene: Scene) -> dict[str, Any]:

@@ -24,6 +24,8 @@ from solver.simulation import Fluid, Simulation, SolverSettings
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000
+MAX_STEPS = 1_000_000_000
+CELL_SIZE_RANGE_M = (1e-9, 1e9)  # beyond it h^2 and h^3 leave floating point's safe range
 
 
 @dataclass(frozen=True)
@@ -149,6 +151,9 @@ def _grid(t: Table) -> Grid:
     if max(hs) - min(hs) > 1e-6 * max(hs):
         sizes = ", ".join(f"{h:.6g}" for h in hs)
         raise t.error("cells", f"cell size must be equal on every axis; size/cells gives {sizes} m")
+    lo, hi = CELL_SIZE_RANGE_M
+    if not lo <= hs[0] <= hi:
+        raise t.error("size", f"cell size size/cells = {hs[0]:.3g} m is outside [{lo:g}, {hi:g}] m")
     t.finish()
     return Grid.from_size(size_m, tuple(cells))
 
@@ -284,8 +289,15 @@ def _run(t: Table) -> RunSpec:
         raise t.error("steps", "give either duration or steps, not both")
     if t.has("steps"):
         steps = t.integer("steps", minimum=1)
+        if steps > MAX_STEPS:
+            raise t.error("steps", f"expected at most {MAX_STEPS} steps, got {steps}")
     else:
         duration = t.number("duration", minimum=0.0, exclusive=True)
-        steps = max(1, round(duration / dt))
+        ratio = duration / dt
+        if not ratio <= MAX_STEPS:
+            raise t.error(
+                "duration", f"duration / dt = {ratio:.3g} steps; expected at most {MAX_STEPS}"
+            )
+        steps = max(1, round(ratio))
     t.finish()
     return RunSpec(dt, steps)

@@ -46,7 +46,8 @@ class SolverSettings:
     tolerances and iteration cap of the PCG solves, and the probe force model
     (``stress`` integral; ``control_volume``, a momentum balance over a box around the probe that
     is far less sensitive to the staircase boundary; or the paper's ``drag`` / ``viscous_drag``
-    approximations)."""
+    approximations). ``probe_forces = False`` skips all force work (nothing reads the forces,
+    e.g. a tablet without force feedback): ``Simulation.forces`` stays empty."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -55,6 +56,7 @@ class SolverSettings:
     force_model: str = "stress"
     drag_coefficient: float = 1.0
     control_volume_margin: int = 3
+    probe_forces: bool = True
 
 
 @dataclass(frozen=True)
@@ -145,7 +147,8 @@ class Simulation:
         ms: dict[str, float] = {}
         t0 = time.perf_counter()
         vel = (st.comps[0], st.comps[1], st.comps[2])
-        self._previous = (vel, st.label.copy())
+        if self._needs_previous_state():
+            self._previous = (vel, st.label.copy())
         scheme = SCHEMES[cfg.advection]
         new = [
             advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme) for a in range(g.dim)
@@ -278,8 +281,16 @@ class Simulation:
         self.boundary.apply_normal(st.comps)
 
     # -- forces ---------------------------------------------------------------------------------
+    def computes_forces(self) -> bool:
+        """Whether a step does any probe force work (there are probes and forces are wanted)."""
+        return bool(self.probes) and self.settings.probe_forces
+
+    def _needs_previous_state(self) -> bool:
+        """The momentum balance needs the state before the step; nothing else does."""
+        return self.computes_forces() and self.settings.force_model == "control_volume"
+
     def _compute_forces(self) -> None:
-        if not self.probes:
+        if not self.computes_forces():
             return
         g, st = self.grid, self.state
         d = g.dim

@@ -10,6 +10,7 @@ import numpy as np
 from tqdm import tqdm
 
 from paintapp.atomic import atomic_write_text
+from solver.plan import explain
 from solver.runner import NonFiniteError, run_scene
 from solver.scene import load_scene
 
@@ -19,6 +20,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scene", help="scene file (TOML, schema version 1)")
     p.add_argument("--json", metavar="OUT.json", help="write the full results here")
     p.add_argument("--steps", type=int, help="override the number of steps (for a quick look)")
+    p.add_argument(
+        "--explain",
+        action="store_true",
+        help="before running, print what the solver will compute for this scene and why",
+    )
     p.set_defaults(func=run)
 
 
@@ -35,6 +41,9 @@ def run(args: argparse.Namespace) -> int:
         f"scene {scene.name}: {g.dim}D {cells} cells, h = {g.cell_size_m:.4g} m, "
         f"{len(scene.probes)} probe(s), {scene.run.steps} steps of {scene.run.dt_s:g} s"
     )
+    if args.explain:
+        for decision in explain(scene.build(), scene.run.dt_s):
+            print(f"  {decision.topic}: {decision.chosen}\n      because {decision.reason}")
     with tqdm(total=scene.run.steps, unit="step", file=sys.stderr, leave=False) as bar:
         try:
             results = run_scene(scene, progress=bar.update)
@@ -56,6 +65,11 @@ def _summarise(results: dict) -> None:
         f"{t['pressure_max_residual']:.1e}); max |div u| "
         f"{results['diagnostics']['max_abs_divergence_per_s']:.2e} 1/s"
     )
+    if t["unconverged_solves"]:
+        print(
+            f"warning: {t['unconverged_solves']} linear solve(s) stopped at the iteration cap "
+            "before reaching the tolerance; raise solver.max_iterations or check the time step"
+        )
     for name, rec in results["probes"].items():
         if rec["force"]:
             f = np.asarray(rec["force"][-1])

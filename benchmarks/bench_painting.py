@@ -1,0 +1,128 @@
+"""Time the painting step (paint grid step + transfer), the canvas render, and the demo replay.
+
+Painting step: a loaded small round brush drags across a canvas already covered with wet paint
+of four pigments, through each painting scene's model, on canvases of 1024 and 4096 pixels (the
+canvas size sets the cell size in texels, so the transfer's cost); median over the steps after a
+warm-up, with the phases (read: canvas to grid; solver; exchange with the brush; transport;
+write: grid to canvas). Canvas render: :func:`paintapp.render.benchmark.time_render` (Mesa
+llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files).
+
+    python benchmarks/bench_painting.py [--steps N] [--demo-runs N] [--sizes 1024 4096]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+
+import numpy as np
+from tqdm import tqdm
+
+from paintapp.canvas import Canvas
+from paintapp.demo_strokes import StrokeSpec, stroke_samples
+from paintapp.paint import load_paint_scene
+from paintapp.replay import replay
+from paintapp.resources import asset_path
+from paintapp.session import PaintingSession
+from paintapp.strokes import read_strokes
+
+PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "cadmium_red", "titanium_white")
+SCENES = ("default", "thin_glaze", "no_fluid")
+PHASES = ("read", "solver", "exchange", "transport", "write")
+#: Canvas width in metres for each pixel count (a 20 cm and a 40 cm canvas).
+CANVAS_M = {1024: 0.2, 4096: 0.4}
+
+
+def wet_canvas(pixels: int) -> Canvas:
+    """A square canvas covered with smoothly varying wet paint of four pigments."""
+    size = CANVAS_M.get(pixels, 0.2)
+    y, x = np.mgrid[0:pixels, 0:pixels] / pixels
+    paint = np.stack([1e-4 * (1.0 + np.sin(9.0 * x * (i + 1) + 4.0 * y * i)) for i in range(4)])
+    wet = np.ones((pixels, pixels), np.float32)
+    return Canvas((pixels, pixels), (size, size), PIGMENTS, paint.astype(np.float32), wet)
+
+
+def bench_step(scene_name: str, pixels: int, steps: int) -> dict[str, float]:
+    """Median ms of a paint step and of its phases."""
+    canvas = wet_canvas(pixels)
+    session = PaintingSession(canvas, "round_small", load_paint_scene(scene_name))
+    session.load_pigment(PIGMENTS[0], 1e-8)
+    size = canvas.size_m[0]
+    spec = StrokeSpec((0.3 * size, 0.5 * size), (0.7 * size, 0.52 * size), (steps + 10) / 60.0,
+                      0.8, (0.2, 0.0))  # fmt: skip
+    rows = []
+    for i, sample in enumerate(tqdm(stroke_samples(spec, 0.0), desc=f"{scene_name} {pixels}",
+                                    leave=False, file=sys.stderr)):  # fmt: skip
+        step = session.sample(sample)
+        if i >= 8 and step.paint is not None:
+            rows.append(step.paint)
+    out = {"step": statistics.median(r.step_ms for r in rows)}
+    for phase in PHASES:
+        out[phase] = statistics.median(r.phase_ms.get(phase, 0.0) for r in rows)
+    out["cell_mm"] = 1e3 * session.model.cell_size_m
+    return out
+
+
+def bench_render(pixels: int, repeats: int) -> dict[str, float] | None:
+    """Render timings (ms) from the renderer's own benchmark, or None without OpenGL."""
+    try:
+        from paintapp.render.benchmark import time_render
+
+        t = time_render(pixels, repeats)
+    except Exception as exc:  # no EGL context here: report and go on
+        print(f"render benchmark unavailable: {exc}", file=sys.stderr)
+        return None
+    return {"render": 1e3 * t.render_s, "upload": 1e3 * t.full_upload_s,
+            "dirty": 1e3 * t.dirty_64_upload_s, "readback": 1e3 * t.readback_s}  # fmt: skip
+
+
+def bench_demo(runs: int) -> list[float]:
+    """Wall seconds of each whole demo replay."""
+    strokes = read_strokes(asset_path("strokes", "demo.jsonl"))
+    replay(strokes)  # warm-up: compiled kernels, caches
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        replay(strokes)
+        times.append(time.perf_counter() - start)
+    return times
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=40, help="timed paint steps per case")
+    parser.add_argument("--demo-runs", type=int, default=3)
+    parser.add_argument("--render-repeats", type=int, default=5)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1024, 4096])
+    args = parser.parse_args(argv)
+    print("Painting step (median ms; round_small brush, 60 Hz samples)\n")
+    print("| scene (model) | canvas | cell | step | " + " | ".join(PHASES) + " |")
+    print("|---|---|---|---|" + "---|" * len(PHASES))
+    for scene in SCENES:
+        model = load_paint_scene(scene).fluid_model
+        for pixels in args.sizes:
+            r = bench_step(scene, pixels, args.steps)
+            phases = " | ".join(f"{r[p]:.1f}" for p in PHASES)
+            print(
+                f"| {scene} ({model}) | {pixels}² | {r['cell_mm']:.2f} mm | {r['step']:.1f} | {phases} |"
+            )
+    print("\nCanvas render (median ms)\n")
+    print("| canvas | full render | full upload | 64x64 dirty upload | readback |")
+    print("|---|---|---|---|---|")
+    for pixels in args.sizes:
+        t = bench_render(pixels, args.render_repeats)
+        if t is not None:
+            print(
+                f"| {pixels}² | {t['render']:.0f} | {t['upload']:.0f} | {t['dirty']:.2f} | {t['readback']:.0f} |"
+            )
+    if args.demo_runs > 0:
+        times = bench_demo(args.demo_runs)
+        print(f"\nDemo replay (session + servo loop, no files): median {statistics.median(times):.1f} s "
+              f"over {len(times)} runs ({', '.join(f'{t:.1f}' for t in times)} s)")  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,171 @@
+"""The depth-averaged paint grid (Baxter & Lin, section 5.2): a 2D grid in the canvas plane.
+
+For thin paint a full 3D grid is not needed: the paint layer moves with the same velocity at every
+depth, so a 2D incompressible fluid in the canvas plane carries the paint *thickness* (metres per
+pigment in each cell) instead of volume fractions. The tip is the cut of its (splayed) shape at
+half the commanded depth, turned by its yaw. The four sides are open (zero pressure): the grid is
+a piece of a wider layer, so what the tip displaces flows out ahead of it and in behind it instead
+of circulating round the whole grid. Paint crosses the open sides too: the paint window is one
+column wider than the fluid grid on every side, and that halo of columns (on the canvas) takes
+the paint that flows out and gives the paint that flows in, so paint is still conserved.
+
+Viscosity: the depth-integrated stress of a layer of thickness ``H`` is ``mu H`` times the
+in-plane strain rate, so each cell gets the effective viscosity ``mu_air + (mu - mu_air) H / H_ref``
+(``H`` clipped to the reference thickness ``H_ref = max_height_m``), and bare canvas barely moves.
+The canvas under the layer is no-slip: for a layer with a half-parabolic velocity profile its wall
+shear is ``3 mu u / H``, a linear drag ``du/dt = -3 nu u / H^2`` on the depth-averaged velocity.
+Each cell gets the drag rate ``3 mu_cell / (rho H_ref^2)``, so the paint only moves near the tip
+that pushes it (within about ``H_ref`` of it), while the nearly free air lets the displaced fluid
+go round the tip.
+
+Force: the 2D stress integral is per unit depth (N/m, and N m/m for the torque about the canvas
+normal); times ``H_ref`` it gives newtons, ``mu H`` times the strain rate summed round the tip:
+thicker paint pushes back harder, and a tip in no paint feels (almost) nothing. The z force and the
+tilting torques are zero in this model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from brushes import BrushPreset, PaintReservoir, Section, TipPose
+from brushes.rotation import yaw_angle
+from paintapp.canvas import Canvas
+from paintapp.paint.exchange import (
+    CellSpace,
+    ExchangeReport,
+    deposit_volume,
+    exchange_with_brush,
+)
+from paintapp.paint.model import (
+    PaintModel,
+    PaintStep,
+    PhaseTimer,
+    section_height_m,
+    unwrap_angle,
+)
+from paintapp.paint.scene import PaintScene
+from solver.boundary import DomainBoundary, Side
+from solver.faces import BOUNDARY
+from solver.grid import Grid
+from solver.probes import Probe
+from solver.scalar_transport import transport
+from solver.simulation import Fluid
+from solver.variable_simulation import VariableViscositySimulation
+
+PROBE = "brush"
+SIDES = {name: Side("outflow") for name in ("x_min", "x_max", "y_min", "y_max")}
+
+
+def padded_faces(
+    comps: list[np.ndarray], face_types: list[np.ndarray], halo_open: np.ndarray
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Face velocities and types of a 2D grid padded by one halo cell on every side.
+
+    The grid's side faces become interior faces between the halo and the grid (open where the
+    halo column is on the canvas, ``halo_open`` (nx + 2, ny + 2)); halo-to-halo faces are closed.
+    """
+    out_c, out_t = [], []
+    for a in range(2):
+        q, t = comps[a], face_types[a]
+        shape = (q.shape[0] + 2, q.shape[1] + 2, 1)
+        cq, ct = np.zeros(shape), np.full(shape, BOUNDARY, dtype=np.int8)
+        cq[1:-1, 1:-1], ct[1:-1, 1:-1] = q, t
+        for end in (0, -1):
+            face = [slice(1, -1), slice(1, -1)]
+            face[a] = 1 if end == 0 else shape[a] - 2
+            cells = [slice(1, -1), slice(1, -1)]
+            cells[a] = 0 if end == 0 else halo_open.shape[a] - 1
+            closed = ~halo_open[tuple(cells)]
+            ct[tuple(face)][closed] = BOUNDARY
+        out_c.append(cq)
+        out_t.append(ct)
+    return out_c, out_t
+
+
+class PaintGridDepthAveraged(PaintModel):
+    """The depth-averaged 2D paint grid (see the module docstring)."""
+
+    name = "depth_averaged"
+
+    def __init__(self, scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> None:
+        super().__init__(scene, canvas, preset, (scene.cells[0] + 2, scene.cells[1] + 2))
+        self.sim: VariableViscositySimulation | None = None
+        self.probe: Probe | None = None
+
+    def _shape(self, pose: TipPose) -> Section:
+        return Section(self.preset.tip(pose.splay), section_height_m(pose, self.cell_size_m))
+
+    def _reset(self, pose: TipPose) -> None:
+        s, h = self.scene, self.cell_size_m
+        ox, oy = self.window.origin_m
+        grid = Grid(2, (s.cells[0], s.cells[1], 1), h, (ox + h, oy + h, 0.0))
+        self.probe = Probe(
+            PROBE, self._shape(pose), 2, pose.position_m[:2], yaw_angle(pose.orientation)
+        )
+        self.sim = VariableViscositySimulation(
+            grid,
+            Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
+            DomainBoundary(grid, dict(SIDES)),
+            [self.probe],
+            s.solver,
+        )
+
+    def _shifted(self, di: int, dj: int) -> None:
+        if self.sim is not None:
+            self.sim.shift((di, dj))
+
+    def viscosity_field(self, q: np.ndarray) -> np.ndarray:
+        """Effective cell viscosities (Pa s) from paint thicknesses (P, nx, ny, 1) in metres."""
+        s = self.scene
+        fill = np.clip(q.sum(axis=0) / s.max_height_m, 0.0, 1.0)
+        return s.air_viscosity_pa_s + fill * (s.viscosity_pa_s - s.air_viscosity_pa_s)
+
+    def _advance(
+        self, pose: TipPose, centre_m: np.ndarray, dt_s: float, reservoir: PaintReservoir
+    ) -> PaintStep:
+        assert self.sim is not None and self.probe is not None
+        clock = PhaseTimer()
+        sim, probe, h = self.sim, self.probe, self.cell_size_m
+        q = self.wet_columns()[..., None]
+        before = q.copy()
+        inner = q[:, 1:-1, 1:-1]
+        on_canvas = self.window.on_canvas()
+        sim.static_solid[:] = ~on_canvas[1:-1, 1:-1, None]
+        mu = self.viscosity_field(inner)
+        sim.set_viscosity(mu)
+        sim.set_drag(3.0 * mu / (self.scene.density_kg_m3 * self.scene.max_height_m**2))
+        probe.shape = self._shape(pose)
+        yaw = unwrap_angle(yaw_angle(pose.orientation), float(probe.orientation))
+        probe.drive_to(np.asarray(centre_m[:2], dtype=float), yaw, dt_s)
+        clock.mark("read")
+        try:
+            sim.step(dt_s)
+            clock.mark("solver")
+            report = self._exchange(inner, pose, dt_s, reservoir)
+            clock.mark("exchange")
+            comps, types = padded_faces(sim.state.comps, sim.state.face_types, on_canvas)
+            substeps = transport(q, comps, types, 2, h, dt_s)
+            clock.mark("transport")
+        except FloatingPointError:
+            self._reset(pose)
+            return PaintStep(step_ms=clock.total_ms)
+        self.window.write_back(self.canvas, (q - before)[..., 0])
+        clock.mark("write")
+        f, depth = sim.forces[PROBE], self.scene.max_height_m
+        force = np.array([f.force[0] * depth, f.force[1] * depth, 0.0])
+        torque = np.array([0.0, 0.0, float(f.torque) * depth])
+        return PaintStep(force, torque, 1, substeps, report, clock.total_ms, clock.ms)
+
+    def _exchange(
+        self, q: np.ndarray, pose: TipPose, dt_s: float, reservoir: PaintReservoir
+    ) -> ExchangeReport:
+        assert self.sim is not None and self.probe is not None
+        s, h = self.scene, self.cell_size_m
+        space = CellSpace(unit=h * h, capacity=s.max_height_m, deposit_k_max=0)
+        speed = float(np.hypot(*self.probe.velocity_m_s))
+        offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, s.deposit_length_m)
+        names = self.canvas.pigment_names
+        return exchange_with_brush(
+            q, self.sim.state.label, reservoir, names, space, s.pickup_fraction, offer
+        )

@@ -1,0 +1,155 @@
+"""The 3D paint grid: a viscous-fluid box over the brush footprint that rides with the tip.
+
+Geometry: ``scene.cells`` cubes of edge ``h`` (a whole number of canvas texels, the grid spanning
+``scene.span`` brush widths); the bottom face is the canvas plane ``z = 0``. Sides: the canvas
+(``z_min``) is a no-slip wall; the four lateral sides are free-slip walls (the paint around the
+window is at rest); the top (``z_max``) is open (zero pressure), so the tip can push down into the
+box and fluid can leave and enter above the paint. Columns not wholly on the canvas are solid.
+
+Fluid: one incompressible fluid of the paint's density whose dynamic viscosity varies by cell,
+``mu = mu_air + phi (mu_paint - mu_air)`` with ``phi`` the cell's paint fraction
+(:class:`solver.variable_simulation.VariableViscositySimulation`): the paint is viscous, the air
+above it is ``air_viscosity_ratio`` times thinner. The brush force is the solver's stress integral
+over the tip, so it grows with the paint the tip is in. The implicit solver has no time-step
+limit, so real oil-paint viscosities (10-100 Pa s) need no scaling.
+
+Each step: fill the cells from the canvas's wet paint (:func:`paintapp.paint.kernels.fill_columns`),
+set the viscosity field, drive the probe to the tip pose and take one solver step, trade paint with
+the brush (:mod:`paintapp.paint.exchange`), transport the paint conservatively with the new
+velocity (:func:`solver.scalar_transport.transport`), and write the change back to the canvas.
+The tip is placed at the depth the stylus commands: the part below the canvas plane is cut off by
+the grid's floor (bristles pressed flat), so the footprint grows with pressure.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
+from paintapp.canvas import Canvas
+from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, exchange_with_brush
+from paintapp.paint.kernels import fill_columns
+from paintapp.paint.model import PaintModel, PaintStep, PhaseTimer
+from paintapp.paint.scene import PaintScene
+from solver.boundary import DomainBoundary, Side
+from solver.grid import Grid
+from solver.probes import Probe
+from solver.scalar_transport import transport
+from solver.simulation import Fluid
+from solver.variable_simulation import VariableViscositySimulation
+
+PROBE = "brush"
+SIDES = {
+    "x_min": Side("slip"),
+    "x_max": Side("slip"),
+    "y_min": Side("slip"),
+    "y_max": Side("slip"),
+    "z_min": Side("wall"),
+    "z_max": Side("outflow"),
+}
+
+
+def pressed_centre(pose: TipPose, centre_m: np.ndarray) -> np.ndarray:
+    """Apex position (m) with the tip lowered by the stylus's compression into the canvas."""
+    return np.asarray(centre_m, dtype=float) - np.array([0.0, 0.0, pose.compression_m])
+
+
+class PaintGrid3D(PaintModel):
+    """The 3D paint grid (see the module docstring)."""
+
+    name = "grid3d"
+
+    def __init__(self, scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> None:
+        super().__init__(scene, canvas, preset, (scene.cells[0], scene.cells[1]))
+        self.sim: VariableViscositySimulation | None = None
+        self.probe: Probe | None = None
+
+    def _grid(self) -> Grid:
+        ox, oy = self.window.origin_m
+        return Grid(3, self.scene.cells, self.cell_size_m, (ox, oy, 0.0))
+
+    def _reset(self, pose: TipPose) -> None:
+        s = self.scene
+        probe = probe_motion(pose, self.preset, name=PROBE).to_probe()
+        probe.centre_m = pressed_centre(pose, pose.position_m)
+        probe.velocity_m_s = np.zeros(3)
+        probe.angular_velocity_rad_s = np.zeros(3)
+        grid = self._grid()
+        self.probe = probe
+        self.sim = VariableViscositySimulation(
+            grid,
+            Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
+            DomainBoundary(grid, dict(SIDES)),
+            [probe],
+            s.solver,
+        )
+
+    def _shifted(self, di: int, dj: int) -> None:
+        if self.sim is not None:
+            self.sim.shift((di, dj, 0))
+
+    def viscosity_field(self, q: np.ndarray) -> np.ndarray:
+        """Cell viscosities (Pa s) from paint fields (P, nx, ny, nz)."""
+        s = self.scene
+        phi = np.clip(q.sum(axis=0), 0.0, 1.0)
+        return s.air_viscosity_pa_s + phi * (s.viscosity_pa_s - s.air_viscosity_pa_s)
+
+    def _advance(
+        self, pose: TipPose, centre_m: np.ndarray, dt_s: float, reservoir: PaintReservoir
+    ) -> PaintStep:
+        assert self.sim is not None and self.probe is not None
+        clock = PhaseTimer()
+        sim, probe, h = self.sim, self.probe, self.cell_size_m
+        columns = self.wet_columns()
+        q = np.zeros((columns.shape[0], *self.scene.cells))
+        fill_columns(columns, h, q)
+        before = q.copy()
+        sim.static_solid[:] = ~self.window.on_canvas()[:, :, None]
+        sim.set_viscosity(self.viscosity_field(q))
+        probe.shape = self.preset.tip(pose.splay)
+        probe.drive_to(pressed_centre(pose, centre_m), pose.orientation, dt_s)
+        clock.mark("read")
+        try:
+            sim.step(dt_s)
+            clock.mark("solver")
+            report = self._exchange(q, pose, dt_s, reservoir)
+            clock.mark("exchange")
+            substeps = transport(q, sim.state.comps, sim.state.face_types, 3, h, dt_s)
+            clock.mark("transport")
+        except FloatingPointError:
+            self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
+            return PaintStep(step_ms=clock.total_ms)
+        self.window.write_back(self.canvas, (q - before).sum(axis=3) * h)
+        clock.mark("write")
+        force = sim.forces[PROBE]
+        return PaintStep(
+            force_n=np.asarray(force.force, dtype=float).copy(),
+            torque_nm=np.asarray(force.torque, dtype=float).copy(),
+            solver_steps=1,
+            transport_substeps=substeps,
+            exchange=report,
+            step_ms=clock.total_ms,
+            phase_ms=clock.ms,
+        )
+
+    def _exchange(
+        self, q: np.ndarray, pose: TipPose, dt_s: float, reservoir: PaintReservoir
+    ) -> ExchangeReport:
+        assert self.sim is not None and self.probe is not None
+        label = self.sim.state.label
+        layers = np.flatnonzero((label >= 0).any(axis=(0, 1)))
+        if layers.size == 0:
+            return ExchangeReport()
+        h = self.cell_size_m
+        space = CellSpace(unit=h**3, capacity=1.0, deposit_k_max=int(layers[0]) + 1)
+        speed = float(np.hypot(*self.probe.velocity_m_s[:2]))
+        offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, self.scene.deposit_length_m)
+        return exchange_with_brush(
+            q,
+            label,
+            reservoir,
+            self.canvas.pigment_names,
+            space,
+            self.scene.pickup_fraction,
+            offer,
+        )

@@ -1,0 +1,156 @@
+"""Numba kernels of the paint grid: filling cells from columns, and brush exchange on cells.
+
+Paint fields are arrays ``q`` of shape (P, nx, ny, nz), one per pigment. In the 3D grid a value is
+the volume fraction of a cell that pigment's paint fills (so ``sum_p q <= 1``, the capacity); in
+the depth-averaged grid it is the paint thickness in metres (capacity ``max_height_m``). A cell's
+paint volume is ``q * unit`` with ``unit`` the cell volume (3D) or the cell area (2D).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+FLUID = -1
+
+
+@njit(cache=True, nogil=True)
+def fill_columns(column_m, h, out):
+    """Fill cells bottom-up from column paint (P, nx, ny) metres into fractions (P, nx, ny, nz).
+
+    A column of total height H fills cell k by ``clamp(H / h - k, 0, 1)`` (a fractional top cell),
+    shared among the pigments in the column's proportions. Paint above the grid's top is left out.
+    """
+    n_p, nx, ny, nz = out.shape
+    for i in range(nx):
+        for j in range(ny):
+            total = 0.0
+            for p in range(n_p):
+                total += column_m[p, i, j]
+            for k in range(nz):
+                frac = min(max(total / h - k, 0.0), 1.0)
+                for p in range(n_p):
+                    out[p, i, j, k] = frac * column_m[p, i, j] / total if total > 0.0 else 0.0
+
+
+@njit(cache=True, nogil=True)
+def sweep_probe_cells(q, label, unit, swept):
+    """Take the paint out of every probe cell (label >= 0) into ``swept`` (P,) volumes."""
+    n_p, nx, ny, nz = q.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if label[i, j, k] < 0:
+                    continue
+                for p in range(n_p):
+                    swept[p] += q[p, i, j, k] * unit
+                    q[p, i, j, k] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def probe_rings(label, max_ring, dist):
+    """Graph distance of fluid cells from the probe (6-neighbours through fluid cells).
+
+    ``dist`` gets 0 on probe cells, r in 1..max_ring on fluid cells r steps away, -1 elsewhere.
+    """
+    nx, ny, nz = label.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                dist[i, j, k] = 0 if label[i, j, k] >= 0 else -1
+    for r in range(1, max_ring + 1):
+        for i in range(nx):
+            for j in range(ny):
+                for k in range(nz):
+                    if dist[i, j, k] != -1 or label[i, j, k] != FLUID:
+                        continue
+                    near = (
+                        (i > 0 and dist[i - 1, j, k] == r - 1)
+                        or (i < nx - 1 and dist[i + 1, j, k] == r - 1)
+                        or (j > 0 and dist[i, j - 1, k] == r - 1)
+                        or (j < ny - 1 and dist[i, j + 1, k] == r - 1)
+                        or (k > 0 and dist[i, j, k - 1] == r - 1)
+                        or (k < nz - 1 and dist[i, j, k + 1] == r - 1)
+                    )
+                    if near:
+                        dist[i, j, k] = r
+
+
+@njit(cache=True, nogil=True)
+def _ring_room(q, dist, ring, k_max, capacity):
+    n_p, nx, ny, nz = q.shape
+    room = 0.0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(min(nz, k_max + 1)):
+                if dist[i, j, k] != ring:
+                    continue
+                used = 0.0
+                for p in range(n_p):
+                    used += q[p, i, j, k]
+                room += max(capacity - used, 0.0)
+    return room
+
+
+@njit(cache=True, nogil=True)
+def _fill_ring(q, dist, ring, k_max, capacity, amount, share):
+    """Add ``share * amount[p] * room_cell`` to every cell of ``ring`` (per unit of room)."""
+    n_p, nx, ny, nz = q.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(min(nz, k_max + 1)):
+                if dist[i, j, k] != ring:
+                    continue
+                used = 0.0
+                for p in range(n_p):
+                    used += q[p, i, j, k]
+                room = max(capacity - used, 0.0)
+                for p in range(n_p):
+                    q[p, i, j, k] += share * amount[p] * room
+
+
+@njit(cache=True, nogil=True)
+def spread_into_rings(q, dist, first, last, k_max, capacity, unit, volume):
+    """Place paint volumes ``volume`` (P,) in the free room of rings ``first..last``, nearest first.
+
+    Within a ring each cell (with layer index <= ``k_max``) takes a share proportional to its free
+    room ``capacity - sum_p q``, each pigment in the proportions of ``volume``; a ring is filled
+    before the next one gets anything. ``volume`` is reduced in place to what did not fit.
+    """
+    n_p = q.shape[0]
+    amount = volume / unit
+    for ring in range(first, last + 1):
+        total = 0.0
+        for p in range(n_p):
+            total += amount[p]
+        if total <= 0.0:
+            break
+        room = _ring_room(q, dist, ring, k_max, capacity)
+        if room <= 0.0:
+            continue
+        take = min(total, room)
+        _fill_ring(q, dist, ring, k_max, capacity, amount, take / (total * room))
+        for p in range(n_p):
+            amount[p] *= 1.0 - take / total
+    for p in range(n_p):
+        volume[p] = amount[p] * unit
+
+
+@njit(cache=True, nogil=True)
+def add_to_ring(q, dist, ring, unit, volume):
+    """Add volumes ``volume`` (P,) evenly to the cells of ``ring`` (no capacity limit)."""
+    n_p, nx, ny, nz = q.shape
+    count = 0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if dist[i, j, k] == ring:
+                    count += 1
+    if count == 0:
+        return False
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if dist[i, j, k] == ring:
+                    for p in range(n_p):
+                        q[p, i, j, k] += volume[p] / (unit * count)
+    return True

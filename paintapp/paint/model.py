@@ -1,0 +1,194 @@
+"""What every paint model shares: following the tip, the canvas window, split steps, the result.
+
+A paint model (3D grid, depth-averaged grid, or no fluid) is driven by tip poses:
+:meth:`PaintModel.touch_down` when the brush enters the paint, :meth:`PaintModel.step` for each
+new pose while it stays in contact (the caller does nothing while it is in the air), and
+:meth:`PaintModel.lift` when it leaves. A step reads the wet paint under the window from the
+canvas, lets the model move it (and trade it with the brush), and writes the change back; the
+grid itself keeps no paint between steps, only its fluid velocity.
+
+Gaps between poses longer than ``scene.max_step_s`` are split into equal sub-steps along the
+straight line between the poses.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from brushes import BrushPreset, PaintReservoir, TipPose
+from paintapp.canvas import Canvas
+from paintapp.paint.exchange import ExchangeReport
+from paintapp.paint.scene import PaintScene
+from paintapp.paint.window import ColumnWindow, cell_texels, square_texel_m
+
+
+def brush_width_m(preset: BrushPreset) -> float:
+    """Widest lateral extent (m) of the preset's tip at full splay."""
+    tip = preset.tip(preset.splay_for_depth(preset.pressure.depth_m))
+    widths = []
+    for axis in range(2):
+        d = np.zeros(3)
+        d[axis] = 1.0
+        widths.append(tip.support(d) + tip.support(-d))
+    return float(max(widths))
+
+
+@dataclass(frozen=True)
+class PaintStep:
+    """The outcome of one :meth:`PaintModel.step`.
+
+    Attributes:
+        force_n: (3,) force of the paint on the brush tip, canvas frame, N.
+        torque_nm: (3,) torque about the tip's apex, canvas frame, N m.
+        solver_steps: fluid solver steps taken (0 without a fluid).
+        transport_substeps: upwind sub-steps of the paint transport, summed.
+        exchange: paint moved between brush and grid, summed over the sub-steps.
+        step_ms: wall time of the step, ms.
+        phase_ms: wall time by phase (``read``: canvas to grid, ``solver``, ``exchange``,
+            ``transport``, ``write``: grid to canvas), ms.
+    """
+
+    force_n: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    torque_nm: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    solver_steps: int = 0
+    transport_substeps: int = 0
+    exchange: ExchangeReport = field(default_factory=ExchangeReport)
+    step_ms: float = 0.0
+    phase_ms: dict[str, float] = field(default_factory=dict)
+
+
+class PhaseTimer:
+    """Wall time of consecutive phases of a step, in ms."""
+
+    def __init__(self) -> None:
+        self.start = self._last = time.perf_counter()
+        self.ms: dict[str, float] = {}
+
+    def mark(self, phase: str) -> None:
+        """The time since the previous mark (or the start) was spent in ``phase``."""
+        now = time.perf_counter()
+        self.ms[phase] = self.ms.get(phase, 0.0) + 1e3 * (now - self._last)
+        self._last = now
+
+    @property
+    def total_ms(self) -> float:
+        """Time since the start, ms."""
+        return 1e3 * (time.perf_counter() - self.start)
+
+
+def add_reports(a: ExchangeReport, b: ExchangeReport) -> ExchangeReport:
+    """Sum of two exchange reports."""
+    return ExchangeReport(*(x + y for x, y in zip(vars(a).values(), vars(b).values(), strict=True)))
+
+
+class PaintModel(ABC):
+    """Base of the paint models (see the module docstring).
+
+    Args:
+        scene: the painting scene.
+        canvas: the canvas painted on (square texels).
+        preset: the brush.
+        cells_xy: lateral cells of the model's grid.
+    """
+
+    name = "model"
+
+    def __init__(
+        self, scene: PaintScene, canvas: Canvas, preset: BrushPreset, cells_xy: tuple[int, int]
+    ) -> None:
+        self.scene = scene
+        self.canvas = canvas
+        self.preset = preset
+        k = cell_texels(brush_width_m(preset), square_texel_m(canvas), cells_xy[0], scene.span)
+        self.window = ColumnWindow(canvas, cells_xy, k)
+        self.pose: TipPose | None = None
+
+    @property
+    def cell_size_m(self) -> float:
+        """Cell edge (m)."""
+        return self.window.cell_size_m
+
+    def touch_down(self, pose: TipPose) -> None:
+        """The brush enters the paint at ``pose``: centre the window there, fluid at rest."""
+        self.window.place(float(pose.position_m[0]), float(pose.position_m[1]))
+        self.pose = pose
+        self._reset(pose)
+
+    def lift(self) -> None:
+        """The brush leaves the paint."""
+        self.pose = None
+
+    def step(self, pose: TipPose, dt_s: float, reservoir: PaintReservoir) -> PaintStep:
+        """Move the tip to ``pose`` over ``dt_s`` seconds, exchanging paint with ``reservoir``."""
+        if self.pose is None:
+            self.touch_down(pose)
+        assert self.pose is not None
+        start = self.pose
+        n = max(1, math.ceil(dt_s / self.scene.max_step_s - 1e-9))
+        result = PaintStep()
+        for s in range(n):
+            f = (s + 1) / n
+            centre = (1.0 - f) * start.position_m + f * pose.position_m
+            self.follow(centre)
+            result = self._merge(result, self._advance(pose, centre, dt_s / n, reservoir))
+        self.pose = pose
+        return result
+
+    def _merge(self, total: PaintStep, part: PaintStep) -> PaintStep:
+        return PaintStep(
+            force_n=part.force_n,
+            torque_nm=part.torque_nm,
+            solver_steps=total.solver_steps + part.solver_steps,
+            transport_substeps=total.transport_substeps + part.transport_substeps,
+            exchange=add_reports(total.exchange, part.exchange),
+            step_ms=total.step_ms + part.step_ms,
+            phase_ms={
+                k: total.phase_ms.get(k, 0.0) + part.phase_ms.get(k, 0.0)
+                for k in {**total.phase_ms, **part.phase_ms}
+            },
+        )
+
+    def follow(self, centre_m: np.ndarray) -> tuple[int, int]:
+        """Re-centre the window (and the fluid state) by whole cells if the tip at ``centre_m``
+        is within ``scene.margin_cells`` of a side; returns the shift (di, dj) in cells."""
+        di, dj = self.window.recentre_offset(
+            float(centre_m[0]), float(centre_m[1]), self.scene.margin_cells
+        )
+        if di or dj:
+            self.window.shift(di, dj)
+            self._shifted(di, dj)
+        return di, dj
+
+    def wet_columns(self) -> np.ndarray:
+        """Wet paint per column under the window, (P, nx, ny) metres."""
+        return self.window.gather(self.canvas)
+
+    @abstractmethod
+    def _reset(self, pose: TipPose) -> None:
+        """Start a stroke at ``pose`` with the window already placed."""
+
+    @abstractmethod
+    def _shifted(self, di: int, dj: int) -> None:
+        """The window moved by whole cells; move the model's grid with it."""
+
+    @abstractmethod
+    def _advance(
+        self, pose: TipPose, centre_m: np.ndarray, dt_s: float, reservoir: PaintReservoir
+    ) -> PaintStep:
+        """One step to ``pose`` with the apex at ``centre_m`` (m, canvas frame)."""
+
+
+def section_height_m(pose: TipPose, cell_m: float) -> float:
+    """Body height (m) of the tip cut used as its footprint in the canvas plane: half the depth
+    the stylus commands (paint depth plus the part pressed flat on the canvas), at least h/2."""
+    return max(0.5 * (pose.press_depth_m + pose.compression_m), 0.5 * cell_m)
+
+
+def unwrap_angle(target_rad: float, current_rad: float) -> float:
+    """``target_rad`` shifted by whole turns to lie within pi of ``current_rad``."""
+    return current_rad + math.remainder(target_rad - current_rad, 2.0 * math.pi)

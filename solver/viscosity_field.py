@@ -1,0 +1,151 @@
+"""Implicit viscosity with a viscosity that varies from cell to cell (numba kernels).
+
+Backward Euler per velocity component ``a``::
+
+    u - dt / rho * div(mu grad u) = u*
+
+discretised on the MAC grid like :mod:`solver.viscosity`, with the coupling between two
+neighbouring samples of component ``a`` weighted by the viscosity between them: each face sample
+carries ``mu_face``, the mean of the two cells it separates (one cell at a domain side), and a pair
+of samples uses the mean of their two ``mu_face`` values, so the matrix stays symmetric (PCG with
+MIC(0) applies). Ghosts across walls and solids use the sample's own ``mu_face``. The
+``grad u^T`` part of the stress, which vanishes for constant viscosity, is left out (a standard
+simplification for variable-viscosity stable fluids).
+
+An optional linear drag toward rest, ``du/dt = -k u`` with a rate ``k`` (1/s) per cell (faces take
+the mean of their two cells), enters the same solve implicitly as ``k dt`` on the diagonal: for a
+depth-averaged thin layer this is the friction of the no-slip surface beneath it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from solver.boundary import INFLOW, WALL
+from solver.faces import FREE, INTERIOR
+from solver.pcg import SolveReport, StencilSystem, solve
+from solver.viscosity import _surface_velocity
+
+
+@njit(cache=True, nogil=True)
+def face_viscosity(mu_cell, axis, out):
+    """Viscosity at the faces normal to ``axis``: mean of the two cells (edge faces: one cell)."""
+    nx, ny, nz = out.shape
+    n_axis = mu_cell.shape[axis]
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                idx = i if axis == 0 else (j if axis == 1 else k)
+                lo = idx - 1 if idx > 0 else idx
+                hi = idx if idx < n_axis else n_axis - 1
+                if axis == 0:
+                    out[i, j, k] = 0.5 * (mu_cell[lo, j, k] + mu_cell[hi, j, k])
+                elif axis == 1:
+                    out[i, j, k] = 0.5 * (mu_cell[i, lo, k] + mu_cell[i, hi, k])
+                else:
+                    out[i, j, k] = 0.5 * (mu_cell[i, j, lo] + mu_cell[i, j, hi])
+
+
+@njit(cache=True, nogil=True)
+def build_variable_system(
+    q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, sys_out,
+    rhs,
+):  # fmt: skip
+    """Assemble the diffusion system of component ``axis`` with face viscosities ``mu_face``.
+
+    ``scale`` is ``dt / (rho h^2)`` so that a pair coefficient is ``scale * mu_pair``;
+    ``drag_face`` holds ``k dt`` of the linear drag at each face.
+    ``sys_out`` is ``(diag, offx, offy, offz, active)``; ``rhs`` receives the right-hand side.
+    """
+    diag, offx, offy, offz, active = sys_out
+    nx, ny, nz = q.shape
+    shape = (nx, ny, nz)
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                offx[i, j, k] = 0.0
+                offy[i, j, k] = 0.0
+                offz[i, j, k] = 0.0
+                free = face_type[i, j, k] == FREE
+                active[i, j, k] = free
+                if not free:
+                    diag[i, j, k] = 1.0
+                    rhs[i, j, k] = 0.0
+                    continue
+                own = scale * mu_face[i, j, k]
+                d = 1.0 + drag_face[i, j, k]
+                r = q[i, j, k]
+                for b in range(dim):
+                    for s in (-1, 1):
+                        ii = i + s * (b == 0)
+                        jj = j + s * (b == 1)
+                        kk = k + s * (b == 2)
+                        idx = ii if b == 0 else (jj if b == 1 else kk)
+                        if idx < 0 or idx >= shape[b]:
+                            kind = kinds[b, 0 if s < 0 else 1]
+                            if kind == WALL or kind == INFLOW:
+                                d += 2.0 * own
+                                r += 2.0 * own * side_vel[b, 0 if s < 0 else 1, axis]
+                            continue
+                        c = 0.5 * (own + scale * mu_face[ii, jj, kk])
+                        t = face_type[ii, jj, kk]
+                        if t == FREE:
+                            d += c
+                            if s > 0:
+                                if b == 0:
+                                    offx[i, j, k] = -c
+                                elif b == 1:
+                                    offy[i, j, k] = -c
+                                else:
+                                    offz[i, j, k] = -c
+                        elif t == INTERIOR and b != axis:
+                            wall = _surface_velocity(
+                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
+                            )
+                            d += 2.0 * own
+                            r += 2.0 * own * wall
+                        else:
+                            d += c
+                            r += c * q[ii, jj, kk]
+                diag[i, j, k] = d
+                rhs[i, j, k] = r
+
+
+def diffuse_variable(
+    q: np.ndarray,
+    face_type: np.ndarray,
+    axis: int,
+    dim: int,
+    mu_cell: np.ndarray,
+    dt_s: float,
+    density_kg_m3: float,
+    kinds: np.ndarray,
+    side_vel: np.ndarray,
+    label: np.ndarray,
+    rigid: np.ndarray,
+    h: float,
+    tol: float,
+    max_iter: int,
+    drag_cell: np.ndarray | None = None,
+) -> SolveReport:
+    """Apply implicit viscosity with cell viscosities ``mu_cell`` (Pa s, cells' shape) in place.
+
+    ``drag_cell`` (1/s, cells' shape) is the optional linear drag rate. The other arguments are
+    those of :func:`solver.viscosity.diffuse`.
+    """
+    mu_face = np.empty_like(q)
+    face_viscosity(mu_cell, axis, mu_face)
+    drag_face = np.zeros_like(q)
+    if drag_cell is not None:
+        face_viscosity(drag_cell, axis, drag_face)
+        drag_face *= dt_s
+    system = StencilSystem.empty(q.shape, dim)
+    rhs = np.empty_like(q)
+    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
+    scale = dt_s / (density_kg_m3 * h * h)
+    build_variable_system(
+        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h,
+        arrays, rhs,
+    )  # fmt: skip
+    return solve(system, rhs, q, tol, max_iter)
