@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
+from paintapp.atomic import atomic_path
 from paintapp.canvas import MAX_PIXELS, Canvas
-from paintapp.canvas_atomic import atomic_path
 from paintapp.pigments import PigmentLibrary, load_pigment_library
 from paintapp.pigments_bands import canvas_band_table, canvas_linear_rgb
 from solver.errors import InputError

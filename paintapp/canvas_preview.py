@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
-from paintapp.canvas_atomic import atomic_path
+from paintapp.atomic import atomic_path
 from paintapp.pigments_spectral import srgb_encode
 
 

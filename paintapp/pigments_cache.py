@@ -13,7 +13,7 @@ import json
 import os
 from pathlib import Path
 
-from paintapp.canvas_atomic import atomic_path
+from paintapp.atomic import atomic_path
 
 #: Bump when the fitting set-up (observer, illuminant, method) changes.
 CACHE_NAME = "jakob2019-cie1931-d65-v1.json"

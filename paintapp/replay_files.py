@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from paintapp.atomic import atomic_path
 from paintapp.canvas import Canvas
-from paintapp.canvas_atomic import atomic_path
 from paintapp.canvas_io import unlit_rgba, write_canvas_exr
 from paintapp.canvas_preview import write_preview_png
 from paintapp.pigments import PigmentLibrary, load_pigment_library

@@ -85,8 +85,7 @@ class VariableViscositySimulation(Simulation):
         )
 
     def _compute_forces(self) -> None:
-        wanted = getattr(self.settings, "probe_forces", True)
-        if not self.probes or not wanted or self.settings.force_model != "stress":
+        if not self.computes_forces() or self.settings.force_model != "stress":
             super()._compute_forces()
             return
         g, st = self.grid, self.state
