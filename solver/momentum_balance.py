@@ -30,7 +30,8 @@ def _cc(q, a, i, j, k):
 def box_surface_flux(u, v, w, pressure, label, lo, hi, dim, h, rho, mu, ref, out):
     """Sum of ``(sigma . n - rho u (u . n)) dA`` over the faces of the cell box [lo, hi).
 
-    ``out`` receives (force(3), torque(3)) about ``ref`` (positions relative to the grid origin).
+    ``mu`` is the dynamic viscosity per cell (Pa s). ``out`` receives (force(3), torque(3)) about
+    ``ref`` (positions relative to the grid origin).
     Faces next to a solid cell make the box invalid: returns False.
     """
     comps = (u, v, w)
@@ -78,10 +79,11 @@ def box_surface_flux(u, v, w, pressure, label, lo, hi, dim, h, rho, mu, ref, out
 
 
 @njit(cache=True, nogil=True)
-def _face_flux(comps, pressure, b, s, fi, fj, fk, li, lj, lk, dim, h, rho, mu, area, ref, out):
+def _face_flux(comps, pressure, b, s, fi, fj, fk, li, lj, lk, dim, h, rho, mu_cell, area, ref, out):
     qb = comps[b]
     ub = qb[fi, fj, fk]
     p = 0.5 * (pressure[li, lj, lk] + pressure[fi, fj, fk])
+    mu = 0.5 * (mu_cell[li, lj, lk] + mu_cell[fi, fj, fk])
     div_lo = (qb[li + (b == 0), lj + (b == 1), lk + (b == 2)] - qb[li, lj, lk]) / h
     div_hi = (qb[fi + (b == 0), fj + (b == 1), fk + (b == 2)] - ub) / h
     contrib = np.zeros(3)

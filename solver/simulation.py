@@ -135,6 +135,8 @@ class Simulation:
         self._side_vel = self.boundary.velocities()
         self._last_dt = 0.0
         self._previous: tuple | None = None
+        self.viscosity_pa_s = np.full(grid.cells, fluid.dynamic_viscosity_pa_s)
+        self.drag_per_s: np.ndarray | None = None
         self._rasterize()
         self._apply_boundaries()
 
@@ -192,30 +194,54 @@ class Simulation:
         return StepStats(self.time_s, 1e3 * (t5 - t0), ms, report, visc)
 
     def _diffuse(self, dt_s: float) -> tuple[SolveReport, ...]:
-        nu = self.fluid.viscosity_m2_s
-        if nu <= 0.0:
-            return ()
+        if not np.any(self.viscosity_pa_s > 0.0) and self.drag_per_s is None:
+            return ()  # inviscid: no viscosity solve at all
         g, st, cfg = self.grid, self.state, self.settings
-        coeff = nu * dt_s / g.cell_size_m**2
         centre, vel, omega, _ = self.rigid_motion()
         rigid = np.stack([centre, vel, omega])
+        rho, h = self.fluid.density_kg_m3, g.cell_size_m
         return tuple(
             diffuse(
                 st.comps[a],
                 st.face_types[a],
                 a,
                 g.dim,
-                coeff,
+                self.viscosity_pa_s,
+                dt_s,
+                rho,
                 self._kinds,
                 self._side_vel,
                 st.label,
                 rigid,
-                g.cell_size_m,
+                h,
                 cfg.viscosity_tolerance,
                 cfg.max_iterations,
+                self.drag_per_s,
             )
             for a in range(g.dim)
         )
+
+    # -- fields the caller may set ---------------------------------------------------------------
+    def set_viscosity(self, mu_pa_s: np.ndarray) -> None:
+        """Dynamic viscosity per cell (cells' shape, finite, >= 0, Pa s) from the next step on;
+        e.g. paint and air. ``fluid.viscosity_m2_s`` only gives the initial, uniform field."""
+        mu = np.asarray(mu_pa_s, dtype=np.float64)
+        if mu.shape != self.grid.cells:
+            raise ValueError(f"viscosity field must have shape {self.grid.cells}, got {mu.shape}")
+        if not np.all(np.isfinite(mu)) or np.any(mu < 0.0):
+            raise ValueError("viscosity field must be finite and >= 0")
+        self.viscosity_pa_s = np.ascontiguousarray(mu)
+
+    def set_drag(self, rate_per_s: np.ndarray | None) -> None:
+        """Linear drag ``du/dt = -k u`` with ``k`` per cell (1/s, >= 0), or None for none: the
+        friction of the no-slip surface under a thin depth-averaged layer."""
+        if rate_per_s is None:
+            self.drag_per_s = None
+            return
+        k = np.asarray(rate_per_s, dtype=np.float64)
+        if k.shape != self.grid.cells or not np.all(np.isfinite(k)) or np.any(k < 0.0):
+            raise ValueError(f"drag must be finite, >= 0 and of shape {self.grid.cells}")
+        self.drag_per_s = np.ascontiguousarray(k)
 
     # -- moving the grid ------------------------------------------------------------------------
     def shift(self, offset_cells: tuple[int, ...]) -> None:
@@ -300,10 +326,9 @@ class Simulation:
         centre, vel, omega, ref = self.rigid_motion()
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-        mu, h = self.fluid.dynamic_viscosity_pa_s, g.cell_size_m
         comps = st.comps
-        stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure, mu, h, d,
-                        centre, vel, omega, ref, fp, fv, tq)  # fmt: skip
+        stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure, self.viscosity_pa_s,
+                        g.cell_size_m, d, (centre, vel, omega), ref, fp, fv, tq)  # fmt: skip
         for i, probe in enumerate(self.probes):
             force, torque = fp[i] + fv[i], tq[i]
             if self.settings.force_model == "control_volume":
@@ -329,7 +354,7 @@ class Simulation:
         if box is None or self._last_dt <= 0.0 or self._previous is None:
             return None
         lo, hi = box
-        h, rho, mu = g.cell_size_m, self.fluid.density_kg_m3, self.fluid.dynamic_viscosity_pa_s
+        h, rho, mu = g.cell_size_m, self.fluid.density_kg_m3, self.viscosity_pa_s
         u, v, w = st.comps
         surface, now, before = np.zeros(6), np.zeros(6), np.zeros(6)
         if not box_surface_flux(u, v, w, st.pressure, st.label, lo, hi, g.dim, h, rho, mu, ref,

@@ -1,8 +1,19 @@
-"""Implicit viscosity: backward Euler ``(I - nu dt lap) u = u*`` per velocity component.
+"""Implicit viscosity: backward Euler ``u - dt / rho * div(mu grad u) = u*`` per velocity component.
 
-Unconditionally stable for any ``nu >= 0`` and ``dt``. Tangential no-slip conditions reflect a
-ghost value across the wall (``u_ghost = 2 u_wall - u``, paper eq. 15), free-slip and outflow
-sides reflect the value itself (zero gradient).
+Unconditionally stable for any viscosity and time step. The dynamic viscosity ``mu`` is a field
+over the cells (uniform for a plain fluid; paint and air in the painting grid): each face sample
+carries ``mu_face``, the mean of the two cells it separates (one cell at a domain side), and a
+pair of samples is coupled by the mean of their two ``mu_face`` values, so the matrix stays
+symmetric (PCG with MIC(0) applies). The ``grad u^T`` part of the stress, which vanishes for
+uniform viscosity, is left out (the usual simplification for variable-viscosity stable fluids).
+
+Tangential no-slip conditions reflect a ghost value across the wall (``u_ghost = 2 u_wall - u``,
+paper eq. 15) about the wall's own velocity at the wall; free-slip and outflow sides reflect the
+value itself (zero gradient).
+
+An optional linear drag toward rest, ``du/dt = -k u`` with a rate ``k`` (1/s) per cell, enters the
+same solve implicitly as ``k dt`` on the diagonal: for a depth-averaged thin layer this is the
+friction of the no-slip surface beneath it.
 """
 
 from __future__ import annotations
@@ -35,31 +46,36 @@ def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
 
 
 @njit(cache=True, nogil=True)
-def build_viscosity_system(
-    q,
-    face_type,
-    axis,
-    dim,
-    coeff,
-    kinds,
-    side_vel,
-    label,
-    rigid,
-    h,
-    diag,
-    offx,
-    offy,
-    offz,
-    active,
-    rhs,
-):
-    """Assemble the backward-Euler diffusion system for component ``axis``.
+def face_viscosity(mu_cell, axis, out):
+    """Viscosity at the faces normal to ``axis``: mean of the two cells (edge faces: one cell)."""
+    nx, ny, nz = out.shape
+    n_axis = mu_cell.shape[axis]
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                idx = i if axis == 0 else (j if axis == 1 else k)
+                lo = idx - 1 if idx > 0 else idx
+                hi = idx if idx < n_axis else n_axis - 1
+                if axis == 0:
+                    out[i, j, k] = 0.5 * (mu_cell[lo, j, k] + mu_cell[hi, j, k])
+                elif axis == 1:
+                    out[i, j, k] = 0.5 * (mu_cell[i, lo, k] + mu_cell[i, hi, k])
+                else:
+                    out[i, j, k] = 0.5 * (mu_cell[i, j, lo] + mu_cell[i, j, hi])
 
-    ``coeff`` is ``nu dt / h^2``. ``q`` holds the advected values at free faces and the prescribed
-    values elsewhere; ``rhs`` receives the right-hand side. ``rigid`` stacks the probes' centre,
-    velocity and angular velocity (3, n_probes, 3) so that a ghost across a probe's surface
-    reflects about the surface velocity at the surface itself.
+
+@njit(cache=True, nogil=True)
+def build_variable_system(
+    q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, sys_out,
+    rhs,
+):  # fmt: skip
+    """Assemble the diffusion system of component ``axis`` with face viscosities ``mu_face``.
+
+    ``scale`` is ``dt / (rho h^2)`` so that a pair coefficient is ``scale * mu_pair``;
+    ``drag_face`` holds ``k dt`` of the linear drag at each face.
+    ``sys_out`` is ``(diag, offx, offy, offz, active)``; ``rhs`` receives the right-hand side.
     """
+    diag, offx, offy, offz, active = sys_out
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
     for i in range(nx):
@@ -74,7 +90,8 @@ def build_viscosity_system(
                     diag[i, j, k] = 1.0
                     rhs[i, j, k] = 0.0
                     continue
-                d = 1.0
+                own = scale * mu_face[i, j, k]
+                d = 1.0 + drag_face[i, j, k]
                 r = q[i, j, k]
                 for b in range(dim):
                     for s in (-1, 1):
@@ -85,31 +102,29 @@ def build_viscosity_system(
                         if idx < 0 or idx >= shape[b]:
                             kind = kinds[b, 0 if s < 0 else 1]
                             if kind == WALL or kind == INFLOW:
-                                d += 2.0 * coeff
-                                r += 2.0 * coeff * side_vel[b, 0 if s < 0 else 1, axis]
+                                d += 2.0 * own
+                                r += 2.0 * own * side_vel[b, 0 if s < 0 else 1, axis]
                             continue
+                        c = 0.5 * (own + scale * mu_face[ii, jj, kk])
                         t = face_type[ii, jj, kk]
                         if t == FREE:
-                            d += coeff
+                            d += c
                             if s > 0:
                                 if b == 0:
-                                    offx[i, j, k] = -coeff
+                                    offx[i, j, k] = -c
                                 elif b == 1:
-                                    offy[i, j, k] = -coeff
+                                    offy[i, j, k] = -c
                                 else:
-                                    offz[i, j, k] = -coeff
+                                    offz[i, j, k] = -c
                         elif t == INTERIOR and b != axis:
-                            d += 2.0 * coeff
-                            r += (
-                                2.0
-                                * coeff
-                                * _surface_velocity(
-                                    label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
-                                )
+                            wall = _surface_velocity(
+                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
                             )
+                            d += 2.0 * own
+                            r += 2.0 * own * wall
                         else:
-                            d += coeff
-                            r += coeff * q[ii, jj, kk]
+                            d += c
+                            r += c * q[ii, jj, kk]
                 diag[i, j, k] = d
                 rhs[i, j, k] = r
 
@@ -119,7 +134,9 @@ def diffuse(
     face_type: np.ndarray,
     axis: int,
     dim: int,
-    coeff: float,
+    mu_cell: np.ndarray,
+    dt_s: float,
+    density_kg_m3: float,
     kinds: np.ndarray,
     side_vel: np.ndarray,
     label: np.ndarray,
@@ -127,26 +144,25 @@ def diffuse(
     h: float,
     tol: float,
     max_iter: int,
+    drag_cell: np.ndarray | None = None,
 ) -> SolveReport:
-    """Apply implicit viscosity to component ``axis`` in place; returns the solve report."""
+    """Apply implicit viscosity with cell viscosities ``mu_cell`` (Pa s, cells' shape) in place.
+
+    ``drag_cell`` (1/s, cells' shape) is the optional linear drag rate. The other arguments are
+    described in the module docstring.
+    """
+    mu_face = np.empty_like(q)
+    face_viscosity(mu_cell, axis, mu_face)
+    drag_face = np.zeros_like(q)
+    if drag_cell is not None:
+        face_viscosity(drag_cell, axis, drag_face)
+        drag_face *= dt_s
     system = StencilSystem.empty(q.shape, dim)
     rhs = np.empty_like(q)
-    build_viscosity_system(
-        q,
-        face_type,
-        axis,
-        dim,
-        coeff,
-        kinds,
-        side_vel,
-        label,
-        rigid,
-        h,
-        system.diag,
-        system.off[0],
-        system.off[1],
-        system.off[2],
-        system.active,
-        rhs,
-    )
+    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
+    scale = dt_s / (density_kg_m3 * h * h)
+    build_variable_system(
+        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h,
+        arrays, rhs,
+    )  # fmt: skip
     return solve(system, rhs, q, tol, max_iter)
