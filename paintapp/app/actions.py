@@ -1,0 +1,121 @@
+"""What the controls ask the simulation worker to do, as commands it runs in its own thread.
+
+Each function returns a command (a callable taking the worker); the GUI queues it with
+:meth:`SimulationWorker.submit`. Commands end the current stroke first where they change the
+brush or the canvas, so every stroke lands in the undo history whole. Each one is journalled:
+palette dips, brush switches and cleans as the stroke format's events, the rest as markers.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from paintapp.app.history import UndoHistory, copy_canvas
+from paintapp.app.settings import PaintSettings
+from paintapp.canvas import Canvas
+from paintapp.strokes_format import CleanBrush, LoadPigment, SwitchBrush
+from solver.errors import InputError
+
+if TYPE_CHECKING:
+    from paintapp.app.worker import Command, SimulationWorker
+
+
+def load_pigment(pigment: str) -> Command:
+    """Dip the brush in ``pigment``, filling the settings' share of its capacity."""
+
+    def run(w: SimulationWorker) -> None:
+        if pigment not in w.pigments:
+            raise InputError(f"no pigment {pigment!r} on the palette", key="pigment")
+        volume = w.settings.load_fraction * w.session.preset.capacity_m3
+        event = LoadPigment(w.session_time(), pigment, volume)
+        w.session.handle(event)
+        w.journal.write(event)
+        w.message = f"loaded {pigment}"
+
+    return run
+
+
+def clean_brush() -> Command:
+    """Wipe the brush."""
+
+    def run(w: SimulationWorker) -> None:
+        event = CleanBrush(w.session_time())
+        w.session.handle(event)
+        w.journal.write(event)
+        w.message = "brush cleaned"
+
+    return run
+
+
+def apply_settings(settings: PaintSettings) -> Command:
+    """Paint on with new settings (brush, size, fluid model, viscosity, load)."""
+
+    def run(w: SimulationWorker) -> None:
+        old = w.settings
+        rebuild = (
+            old.brush != settings.brush
+            or old.brush_scale != settings.brush_scale
+            or old.fluid_model != settings.fluid_model
+            or old.viscosity_pa_s != settings.viscosity_pa_s
+        )
+        w.settings = settings
+        if not rebuild:
+            return
+        w.end_stroke()
+        t = w.session_time()
+        if old.brush != settings.brush:
+            w.session.clean()  # a brush switch starts clean, as in a replay
+            w.journal.write(SwitchBrush(t, settings.brush))
+        if old.brush_scale != settings.brush_scale:
+            w.journal.marker(t, f"brush_scale {settings.brush_scale:g}")
+        if old.fluid_model != settings.fluid_model:
+            w.journal.marker(t, f"fluid_model {settings.fluid_model}")
+        if old.viscosity_pa_s != settings.viscosity_pa_s:
+            w.journal.marker(t, f"viscosity_pa_s {settings.viscosity_pa_s}")
+        w.rebuild()
+        w.message = f"{settings.brush} x{settings.brush_scale:.2g}, {w.session.scene.name}"
+
+    return run
+
+
+def undo() -> Command:
+    """Undo the latest stroke."""
+
+    def run(w: SimulationWorker) -> None:
+        w.end_stroke()
+        box = w.history.undo(w.live)
+        if box is not None:
+            w.journal.marker(w.session_time(), "undo")
+        w.message = "undone" if box is not None else "nothing to undo"
+
+    return run
+
+
+def redo() -> Command:
+    """Redo the latest undone stroke."""
+
+    def run(w: SimulationWorker) -> None:
+        w.end_stroke()
+        box = w.history.redo(w.live)
+        if box is not None:
+            w.journal.marker(w.session_time(), "redo")
+        w.message = "redone" if box is not None else "nothing to redo"
+
+    return run
+
+
+def replace_canvas(canvas: Canvas, note: str) -> Command:
+    """Paint on ``canvas`` from now on (new, opened or recovered); the undo history restarts and
+    the journal moves on to a new file."""
+
+    def run(w: SimulationWorker) -> None:
+        w.end_stroke()
+        w.live = canvas
+        canvas.take_dirty()
+        w.history = UndoHistory(canvas, w.history.max_steps, w.history.max_bytes)
+        w.shared.replace(copy_canvas(canvas))
+        w.rebuild()
+        w.journal.start(w.header())
+        w.message = note
+
+    return run

@@ -1,0 +1,207 @@
+"""The haptic side of the app: which device, the 1 kHz servo thread, and its live timing.
+
+``--device`` chooses the input route:
+
+- ``none``: no haptic device; the tablet or mouse feeds the painting session directly.
+- ``sim``: a :class:`~paintapp.haptics.simulated.SimulatedDevice` whose simulated hand follows
+  the pointer: pen up, the hand hovers 5 mm above the canvas; pen down, it pushes the tip into
+  the paint as deep as the pen's pressure asks. The force the loop writes acts back on the hand.
+- ``hid:VID:PID`` (optionally ``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
+
+With a device the servo loop runs in its own thread on a :class:`MeteredClock` (a
+:class:`~paintapp.haptics.clock.RealTimeClock` that also keeps the last ticks' intervals, so the
+HUD can show the live rate and jitter), publishes the device's pose into its state channel, and
+the simulation worker turns the latest pose into stylus samples (:func:`sample_from_state`).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from brushes import StylusSample
+from paintapp.haptics import (
+    ForceChannel,
+    HidDevice,
+    RealTimeClock,
+    ServoConfig,
+    ServoLoop,
+    SimulatedDevice,
+)
+from paintapp.haptics.device import DeviceState, HapticDevice
+from paintapp.haptics.hid_transport import open_hid, parse_ids
+from paintapp.haptics.pose import tilt_twist_from_quat
+from solver.errors import InputError
+
+#: Height the simulated hand hovers above the canvas with the pen up, m.
+HOVER_M = 0.005
+#: How deep (m) the simulated hand pushes the tip below the paint at full pressure.
+PRESS_M = 0.002
+#: Ring buffer of tick intervals kept for the live figures.
+METER_TICKS = 2000
+
+
+@dataclass(frozen=True)
+class DeviceSpec:
+    """A parsed ``--device`` value: ``kind`` is "none", "sim" or "hid"."""
+
+    kind: str
+    vendor_id: int | None = None
+    product_id: int | None = None
+    protocol: str = "stylus"
+
+    @property
+    def label(self) -> str:
+        """Short text for the HUD."""
+        if self.kind == "hid":
+            return f"hid {self.vendor_id:04x}:{self.product_id:04x} ({self.protocol})"
+        return {"none": "tablet/mouse", "sim": "simulated haptic stylus"}[self.kind]
+
+
+def parse_device(text: str) -> DeviceSpec:
+    """Parse ``none``, ``sim`` or ``hid:VID:PID[:stylus|pid]``; :class:`InputError` otherwise."""
+    if text in ("none", "sim"):
+        return DeviceSpec(text)
+    parts = text.split(":")
+    if parts[0] != "hid" or len(parts) not in (3, 4):
+        raise InputError(f"expected none, sim or hid:VID:PID (hex), got {text!r}", key="--device")
+    vid, pid = parse_ids(f"{parts[1]}:{parts[2]}")
+    protocol = parts[3] if len(parts) == 4 else "stylus"
+    if protocol not in ("stylus", "pid"):
+        raise InputError(f"expected protocol stylus or pid, got {protocol!r}", key="--device")
+    return DeviceSpec("hid", vid, pid, protocol)
+
+
+class PointerTarget:
+    """The simulated hand's target: the latest pointer position (thread-safe latest value).
+
+    Canvas-frame metres; the device frame equals the canvas frame (the canvas plane at z = 0).
+    """
+
+    def __init__(self, x_m: float = 0.0, y_m: float = 0.0) -> None:
+        self._lock = threading.Lock()
+        self._pos = np.array([x_m, y_m, HOVER_M])
+
+    def set(self, x_m: float, y_m: float, pressure: float, down: bool) -> None:
+        """Aim at (x, y); pen down pushes ``pressure * PRESS_M`` below the canvas plane."""
+        z = -PRESS_M * pressure if down else HOVER_M
+        if not all(math.isfinite(v) for v in (x_m, y_m, z)):
+            return
+        with self._lock:
+            self._pos = np.array([x_m, y_m, z])
+
+    def __call__(self, _t_s: float) -> tuple[np.ndarray, np.ndarray]:
+        with self._lock:
+            return self._pos.copy(), np.zeros(3)
+
+
+class MeteredClock(RealTimeClock):
+    """A real-time clock that also keeps the intervals between its last ticks' starts."""
+
+    def __init__(self, period_s: float = 1e-3) -> None:
+        super().__init__(period_s)
+        self._intervals = np.zeros(METER_TICKS)
+        self._count = 0
+        self._last: float | None = None
+
+    def start(self, tick, max_ticks: int | None = None) -> None:  # type: ignore[override]
+        """Start the background thread; each tick's start time is metered."""
+
+        def metered(index: int, t_s: float) -> bool:
+            if self._last is not None:
+                self._intervals[self._count % METER_TICKS] = t_s - self._last
+                self._count += 1
+            self._last = t_s
+            return tick(index, t_s)
+
+        super().start(metered, max_ticks)
+
+    def live(self) -> tuple[float, float, int]:
+        """(rate Hz, jitter p99 ms, intervals seen) over the last ticks; jitter is the 99th
+        percentile of |interval - period|."""
+        n = min(self._count, METER_TICKS)
+        if n < 2:
+            return 0.0, 0.0, n
+        data = self._intervals[:n].copy()
+        mean = float(np.mean(data))
+        jitter = float(np.percentile(np.abs(data - self.period_s), 99))
+        return (1.0 / mean if mean > 0 else 0.0), 1e3 * jitter, n
+
+
+def make_device(spec: DeviceSpec, clock: RealTimeClock, target: PointerTarget) -> HapticDevice:
+    """The device ``spec`` names, not yet opened."""
+    if spec.kind == "sim":
+        return SimulatedDevice(clock.now_s, target=target, tilt_rad=(0.0, 0.0))
+    if spec.kind == "hid":
+        vid, pid = spec.vendor_id, spec.product_id
+        return HidDevice(lambda: open_hid(vid, pid), spec.protocol, clock.now_s)
+    raise InputError("no device to open", key="--device")
+
+
+class HapticLink:
+    """A device and its servo loop in a background thread.
+
+    Args:
+        spec: the device.
+        forces: the channel the painting session publishes into.
+        force_scale: the initial force scale.
+        target: the simulated hand's target (``sim`` only).
+    """
+
+    def __init__(
+        self,
+        spec: DeviceSpec,
+        forces: ForceChannel,
+        force_scale: float = 4.0,
+        target: PointerTarget | None = None,
+    ) -> None:
+        self.spec = spec
+        self.target = target or PointerTarget()
+        self.clock = MeteredClock()
+        config = ServoConfig(record=False)
+        config = replace(config, fluid=replace(config.fluid, force_scale=force_scale))
+        self.loop = ServoLoop(make_device(spec, self.clock, self.target), forces, config)
+        self.started_at = time.perf_counter()
+
+    def start(self) -> None:
+        """Open the device and start the loop (DeviceNotFoundError if it cannot be opened)."""
+        self.loop.start(self.clock)
+
+    def stop(self) -> None:
+        """Stop the loop and close the device (zero force)."""
+        self.loop.close()
+
+    @property
+    def fault(self) -> str | None:
+        """The device failure that stopped the loop, or None."""
+        return self.loop.device_fault
+
+    def set_force_scale(self, scale: float) -> None:
+        """Change the force scale while running (one attribute swap each; the loop reads them
+        once per tick)."""
+        if not (math.isfinite(scale) and 0.0 <= scale <= 20.0):
+            raise InputError(f"expected a force scale in [0, 20], got {scale}", key="force_scale")
+        fluid = getattr(self.loop, "fluid", None)
+        if fluid is not None:
+            fluid.config = replace(fluid.config, force_scale=scale, torque_scale=None)
+            fluid.torque_scale = scale
+
+
+def sample_from_state(state: DeviceState, t_s: float) -> StylusSample | None:
+    """A haptic stylus sample (canvas frame) from a device state, or None if it is unusable."""
+    pos = np.asarray(state.position_m, np.float64)
+    if not np.all(np.isfinite(pos)):
+        return None
+    try:
+        tilt, twist = tilt_twist_from_quat(state.orientation_wxyz)
+    except (ValueError, ZeroDivisionError, FloatingPointError):
+        tilt, twist = np.zeros(2), 0.0
+    limit = 0.5 * math.pi - 1e-6
+    tilt = np.clip(np.nan_to_num(tilt), -limit, limit)
+    twist = float(twist) if math.isfinite(twist) else 0.0
+    pressure = float(np.clip(np.nan_to_num(state.pressure), 0.0, 1.0))
+    return StylusSample(t_s, pos, pressure, tilt, twist, int(state.buttons) & 0xFF)

@@ -1,0 +1,155 @@
+"""The heads-up display over the canvas: rates, force and torque, and the paint grid outline.
+
+It is a transparent widget laid over the canvas widget (mouse events pass through). It shows:
+
+- the simulation rate (paint steps per second) and the last step's time;
+- the servo loop's rate and jitter (99th percentile of |tick interval - 1 ms|), live from its
+  clock, or "off" without a haptic device;
+- the display frame rate;
+- the force and torque on the brush tip, as numbers and as an arrow in a gauge (the in-plane
+  force; the felt force is this times the force scale);
+- on request (G) the outline of the paint grid riding with the brush.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from PySide6.QtCore import QPointF, QRectF, Qt
+from PySide6.QtGui import QColor, QFont, QPainter, QPen
+from PySide6.QtWidgets import QWidget
+
+from paintapp.app.input import ViewMapping
+from paintapp.app.shared import WorkerStatus
+
+GAUGE_PX = 70
+#: Newtons at the gauge's rim (the in-plane fluid force, before the force scale).
+GAUGE_FULL_N = 0.02
+
+
+@dataclass(frozen=True)
+class HudData:
+    """Everything the HUD shows besides the worker status."""
+
+    frame_hz: float = 0.0
+    servo: tuple[float, float] | None = None
+    device: str = "tablet/mouse"
+    brush: str = ""
+    model: str = ""
+    force_scale: float = 0.0
+    journal: str = ""
+
+
+def hud_lines(status: WorkerStatus, data: HudData) -> list[str]:
+    """The HUD's text lines."""
+    f, t = status.force_n, status.torque_nm
+    servo = (
+        "off"
+        if data.servo is None
+        else f"{data.servo[0]:6.1f} Hz  jitter p99 {data.servo[1]:.3f} ms"
+    )
+    lines = [
+        f"sim    {status.sim_hz:6.1f} Hz  step {status.step_ms:5.1f} ms",
+        f"servo  {servo}",
+        f"frame  {data.frame_hz:6.1f} Hz",
+        f"force  {float(np.linalg.norm(f)):.4f} N  ({f[0]:+.3f}, {f[1]:+.3f}, {f[2]:+.3f})",
+        f"torque {float(np.linalg.norm(t)):.2e} N m   felt x{data.force_scale:g}",
+        f"brush  {data.brush}   paint {status.reservoir_m3 * 1e9:.1f} mm3",
+        f"fluid  {data.model}",
+        f"input  {data.device}",
+        f"strokes {status.strokes}  undo {status.undo}  redo {status.redo}",
+    ]
+    if data.journal:
+        lines.append(f"rec    {data.journal}")
+    if status.fault:
+        lines.append(f"DEVICE FAULT: {status.fault}")
+    if status.message:
+        lines.append(status.message)
+    lines.append("F1 / ?  help")
+    return lines
+
+
+class HudOverlay(QWidget):
+    """Draws the HUD (see the module docstring) from ``source()``.
+
+    Args:
+        status: returns the newest worker status.
+        data: returns the rest of the HUD's figures.
+        mapping: returns the canvas-to-widget mapping.
+        parent: the canvas widget.
+    """
+
+    def __init__(
+        self,
+        status: Callable[[], WorkerStatus],
+        data: Callable[[], HudData],
+        mapping: Callable[[], ViewMapping],
+        parent: QWidget,
+    ) -> None:
+        super().__init__(parent)
+        self.status, self.data, self.mapping = status, data, mapping
+        self.show_grid = False
+        self.show_text = True
+        self.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents, True)
+        self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground, True)
+        self.setGeometry(parent.rect())
+
+    def paintEvent(self, _event) -> None:
+        status = self.status()
+        painter = QPainter(self)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+        if self.show_grid and status.grid_m is not None:
+            self._draw_grid(painter, status.grid_m)
+        if self.show_text:
+            bottom = self._draw_text(painter, hud_lines(status, self.data()))
+            self._draw_gauge(painter, status, bottom + 8)
+        painter.end()
+
+    def _draw_grid(self, painter: QPainter, grid: tuple[float, float, float, float]) -> None:
+        mapping = self.mapping()
+        x0, y1 = mapping.to_widget(grid[0], grid[1])
+        x1, y0 = mapping.to_widget(grid[2], grid[3])
+        painter.setPen(QPen(QColor(80, 220, 255, 220), 1.5, Qt.PenStyle.DashLine))
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)))
+
+    def _draw_text(self, painter: QPainter, lines: list[str]) -> float:
+        font = QFont("monospace")
+        font.setStyleHint(QFont.StyleHint.Monospace)
+        font.setPointSize(9)
+        painter.setFont(font)
+        metrics = painter.fontMetrics()
+        height = metrics.height()
+        width = max(metrics.horizontalAdvance(line) for line in lines) + 16
+        box = QRectF(8, 8, width, height * len(lines) + 12)
+        painter.setPen(Qt.PenStyle.NoPen)
+        painter.setBrush(QColor(0, 0, 0, 160))
+        painter.drawRoundedRect(box, 6, 6)
+        painter.setPen(QColor(235, 235, 235))
+        for i, line in enumerate(lines):
+            painter.drawText(QPointF(16, 14 + metrics.ascent() + i * height), line)
+        return box.bottom()
+
+    def _draw_gauge(self, painter: QPainter, status: WorkerStatus, top: float) -> None:
+        centre = QPointF(8 + GAUGE_PX / 2 + 4, top + GAUGE_PX / 2 + 4)
+        painter.setPen(Qt.PenStyle.NoPen)
+        painter.setBrush(QColor(0, 0, 0, 160))
+        painter.drawEllipse(centre, GAUGE_PX / 2 + 4, GAUGE_PX / 2 + 4)
+        painter.setPen(QPen(QColor(160, 160, 160), 1))
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.drawEllipse(centre, GAUGE_PX / 2, GAUGE_PX / 2)
+        fx, fy = (float(v) for v in status.force_n[:2])
+        if not (math.isfinite(fx) and math.isfinite(fy)):
+            return
+        size = math.hypot(fx, fy)
+        if size < 1e-9:
+            return
+        length = GAUGE_PX / 2 * min(size / GAUGE_FULL_N, 1.0)
+        tip = QPointF(centre.x() + length * fx / size, centre.y() - length * fy / size)
+        painter.setPen(QPen(QColor(255, 60, 20), 3))
+        painter.drawLine(centre, tip)
+        painter.setBrush(QColor(255, 60, 20))
+        painter.drawEllipse(tip, 3, 3)

@@ -1,0 +1,56 @@
+"""The options of ``paintapp paint`` as one typed object, and the canvas the app starts with."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from paintapp.app.haptic_link import DeviceSpec
+from paintapp.app.recovery import default_recovery_dir
+from paintapp.app.settings import PaintSettings
+from paintapp.canvas import Canvas
+from paintapp.paint import PaintScene
+
+#: A new canvas: pixels and metres (0.25 mm texels, as the demo's).
+DEFAULT_PIXELS = (720, 480)
+DEFAULT_SIZE_M = (0.18, 0.12)
+
+
+@dataclass(frozen=True)
+class PaintOptions:
+    """How the app starts.
+
+    Attributes:
+        canvas_path: the canvas file to open (None: a new canvas, or a recovered one).
+        device: the input device.
+        scene: a painting scene given on the command line (None: the bundled one for the model).
+        record: the stroke journal file (None: no journal).
+        overwrite_record: allow replacing an existing journal file.
+        recovery_dir: where autosaves go.
+        autosave_s: autosave interval, s (0 turns autosave off).
+        recover: what to do with an autosave left by a crash: ``ask``, ``yes`` or ``no``.
+        settings: the initial paint settings.
+        pixels, size_m: size of a new canvas.
+        frame_ms: the render timer's period, ms.
+    """
+
+    canvas_path: Path | None = None
+    device: DeviceSpec = field(default_factory=lambda: DeviceSpec("none"))
+    scene: PaintScene | None = None
+    record: Path | None = None
+    overwrite_record: bool = False
+    recovery_dir: Path = field(default_factory=default_recovery_dir)
+    autosave_s: float = 60.0
+    recover: str = "ask"
+    settings: PaintSettings = field(default_factory=PaintSettings)
+    pixels: tuple[int, int] = DEFAULT_PIXELS
+    size_m: tuple[float, float] = DEFAULT_SIZE_M
+    frame_ms: int = 16
+
+
+def blank_canvas(like: Canvas | None = None, options: PaintOptions | None = None) -> Canvas:
+    """A blank canvas the size of ``like`` (or of the options' new canvas)."""
+    if like is not None:
+        return Canvas(like.pixels, like.size_m)
+    opts = options or PaintOptions()
+    return Canvas(opts.pixels, opts.size_m)

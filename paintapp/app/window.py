@@ -1,0 +1,332 @@
+"""The main window: canvas, HUD, help overlay, controls, menus, shortcuts, timers.
+
+Threads (none waits on another; they exchange the latest state):
+
+- the GUI thread: Qt events (tablet, mouse, keys, controls) and the render loop, a timer at the
+  display rate that repaints the canvas widget and the HUD;
+- the simulation worker (:mod:`paintapp.app.worker`): steps the painting session with the
+  latest input as fast as it can;
+- with a haptic device, the 1 kHz servo loop (:mod:`paintapp.app.haptic_link`);
+- an autosave thread now and then (:mod:`paintapp.app.recovery`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import QDockWidget, QMainWindow, QMessageBox, QScrollArea
+
+from paintapp.app import actions, files
+from paintapp.app.canvas_widget import CanvasWidget
+from paintapp.app.controls import ControlsPanel
+from paintapp.app.haptic_link import HapticLink
+from paintapp.app.history import copy_canvas
+from paintapp.app.hud import HudData, HudOverlay
+from paintapp.app.input import PenState, sample_from_pen
+from paintapp.app.journal import Journal
+from paintapp.app.options import PaintOptions
+from paintapp.app.recovery import Recovery
+from paintapp.app.settings import MAX_SCALE, MIN_SCALE, MODEL_LABELS, PaintSettings, brush_names
+from paintapp.app.shared import SharedCanvas
+from paintapp.app.shortcuts import SHORTCUTS, HelpOverlay
+from paintapp.app.worker import SimulationWorker
+from paintapp.canvas import Canvas
+from paintapp.pigments import PigmentLibrary
+from paintapp.render import Lighting
+
+HUD_EVERY_FRAMES = 2
+
+
+class PaintWindow(QMainWindow):
+    """The painting window.
+
+    Args:
+        canvas: the canvas to paint on.
+        library: the pigments (the palette shows all of them, at most 16).
+        options: the command-line options.
+        link: the started haptic link, or None.
+        document: the file the canvas came from, if any.
+        interactive: False suppresses message boxes (tests, benchmarks).
+    """
+
+    def __init__(
+        self,
+        canvas: Canvas,
+        library: PigmentLibrary,
+        options: PaintOptions,
+        link: HapticLink | None = None,
+        document: Path | None = None,
+        interactive: bool = True,
+    ) -> None:
+        super().__init__()
+        self.library = library
+        self.options = options
+        self.link = link
+        self.interactive = interactive
+        self.document: Path | None = None
+        self.settings: PaintSettings = options.settings
+        self.pigments = tuple(sorted(library))[:16]
+        self.shared = SharedCanvas(copy_canvas(canvas))
+        self.journal = Journal(options.record, options.overwrite_record)
+        self.worker = SimulationWorker(
+            canvas, self.shared, self.settings, self.pigments, self.journal, options.scene, link
+        )
+        self.recovery = Recovery(options.recovery_dir, library)
+        self.pen_events = 0
+        self.saved_version = 0
+        self._frame = 0
+        self._fault_seen = False
+        self._build_widgets()
+        self._build_actions()
+        self._start_timers()
+        self.set_document(document)
+        self.resize(1180, 760)
+        self.worker.start()
+
+    # --- construction ---------------------------------------------------------------------------
+    def _build_widgets(self) -> None:
+        self.canvas_widget = CanvasWidget(
+            self.shared, self.library, self.worker.status.get, self.on_pen
+        )
+        self.setCentralWidget(self.canvas_widget)
+        self.hud = HudOverlay(
+            self.worker.status.get, self.hud_data, self.canvas_widget.mapping, self.canvas_widget
+        )
+        self.help = HelpOverlay(self.canvas_widget)
+        handlers = {
+            "pigment": self.load_pigment,
+            "clean": self.clean_brush,
+            "settings": self.apply_settings,
+            "view": self.set_view,
+        }
+        self.controls = ControlsPanel(
+            self.library,
+            self.pigments,
+            self.settings,
+            self.worker.session.scene.viscosity_pa_s,
+            handlers,
+        )
+        scroll = QScrollArea()
+        scroll.setWidget(self.controls)
+        scroll.setWidgetResizable(True)
+        self.dock = QDockWidget("Controls", self)
+        self.dock.setWidget(scroll)
+        self.dock.setFeatures(QDockWidget.DockWidgetFeature.DockWidgetMovable)
+        self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, self.dock)
+
+    def _handlers(self) -> dict:
+        return {
+            "help": lambda: self.help.setVisible(not self.help.isVisible()),
+            "undo": self.undo,
+            "redo": self.redo,
+            "new": lambda: files.new_canvas(self),
+            "open": lambda: files.open_canvas(self),
+            "save": lambda: files.save_canvas(self),
+            "save_as": lambda: files.save_canvas(self, ask=True),
+            "export": lambda: files.export_picture(self),
+            "clean": self.clean_brush,
+            "next_brush": lambda: self.step_brush(1),
+            "prev_brush": lambda: self.step_brush(-1),
+            "smaller": lambda: self.scale_brush(1 / 1.25),
+            "larger": lambda: self.scale_brush(1.25),
+            "weaker": lambda: self.change_force(-0.5),
+            "stronger": lambda: self.change_force(0.5),
+            "model": self.next_model,
+            "grid": lambda: setattr(self.hud, "show_grid", not self.hud.show_grid),
+            "hud": lambda: setattr(self.hud, "show_text", not self.hud.show_text),
+            "light": lambda: self.turn_light(15.0),
+            "light_back": lambda: self.turn_light(-15.0),
+            "controls": lambda: self.dock.setVisible(not self.dock.isVisible()),
+            "quit": self.close,
+        }
+
+    def _build_actions(self) -> None:
+        handlers = self._handlers()
+        self.actions_by_name: dict[str, QAction] = {}
+        menus = {"file": self.menuBar().addMenu("&File"), "edit": self.menuBar().addMenu("&Edit")}
+        menus["brush"] = self.menuBar().addMenu("&Brush")
+        menus["view"] = self.menuBar().addMenu("&View")
+        where = {"new": "file", "open": "file", "save": "file", "save_as": "file"}
+        where |= {"export": "file", "quit": "file", "undo": "edit", "redo": "edit"}
+        where |= {"clean": "brush", "next_brush": "brush", "prev_brush": "brush"}
+        where |= {"smaller": "brush", "larger": "brush", "model": "brush"}
+        for name, keys, text in SHORTCUTS:
+            if name == "pigment":
+                self._pigment_shortcuts(keys)
+                continue
+            action = QAction(text[:1].upper() + text[1:], self)
+            action.setShortcuts([QKeySequence(k) for k in keys])
+            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
+            action.triggered.connect(lambda _=False, f=handlers[name]: f())
+            menus[where.get(name, "view")].addAction(action)
+            self.addAction(action)
+            self.actions_by_name[name] = action
+
+    def _pigment_shortcuts(self, keys: tuple[str, ...]) -> None:
+        for key, name in zip(keys, self.pigments, strict=False):
+            action = QAction(f"Load {name}", self)
+            action.setShortcut(QKeySequence(key))
+            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
+            action.triggered.connect(lambda _=False, n=name: self.load_pigment(n))
+            self.addAction(action)
+
+    def _start_timers(self) -> None:
+        self.render_timer = QTimer(self)
+        self.render_timer.timeout.connect(self._frame_tick)
+        self.render_timer.start(self.options.frame_ms)
+        self.autosave_timer = QTimer(self)
+        self.autosave_timer.timeout.connect(self.autosave)
+        if self.options.autosave_s > 0:
+            self.autosave_timer.start(round(1000 * self.options.autosave_s))
+
+    # --- the render loop ------------------------------------------------------------------------
+    def _frame_tick(self) -> None:
+        self.canvas_widget.update()
+        self._frame += 1
+        if self._frame % HUD_EVERY_FRAMES == 0:
+            self.hud.update()
+            if self.help.isVisible():
+                self.help.update()
+        status = self.worker.status.get()
+        if status.fault and not self._fault_seen:
+            self._fault_seen = True  # keep the work: autosave at once
+            self.autosave(force=True)
+            self.statusBar().showMessage(status.message, 15000)
+
+    def hud_data(self) -> HudData:
+        """The HUD's figures besides the worker's."""
+        servo = None
+        if self.link is not None and self.link.fault is None:
+            rate, jitter, _ = self.link.clock.live()
+            servo = (rate, jitter)
+        s = self.settings
+        return HudData(
+            frame_hz=self.canvas_widget.frames.rate(),
+            servo=servo,
+            device=self.options.device.label,
+            brush=f"{s.brush} x{s.brush_scale:.2g} load {100 * s.load_fraction:.0f}%",
+            model=f"{MODEL_LABELS[s.fluid_model]}, {self.worker.session.scene.viscosity_pa_s:.3g} Pa s",
+            force_scale=s.force_scale,
+            journal=str(self.journal.path or ""),
+        )
+
+    # --- input ----------------------------------------------------------------------------------
+    def on_pen(self, pen: PenState) -> None:
+        """A tablet or mouse reading: to the simulated hand, or straight to the worker."""
+        sample = sample_from_pen(pen, self.canvas_widget.mapping())
+        if sample is None:
+            return
+        self.pen_events += 1
+        link = self.link
+        if link is not None and link.fault is None:
+            if link.spec.kind == "sim":
+                x, y = float(sample.position_m[0]), float(sample.position_m[1])
+                link.target.set(x, y, sample.pressure, pen.down)
+            return
+        self.worker.push(sample)
+
+    # --- controls -------------------------------------------------------------------------------
+    def load_pigment(self, name: str) -> None:
+        """Dip the brush in ``name``."""
+        self.worker.submit(actions.load_pigment(name))
+
+    def clean_brush(self) -> None:
+        """Wipe the brush."""
+        self.worker.submit(actions.clean_brush())
+
+    def apply_settings(self, settings: PaintSettings) -> None:
+        """Paint on with ``settings``."""
+        self.settings = settings
+        if self.link is not None:
+            self.link.set_force_scale(settings.force_scale)
+        self.worker.submit(actions.apply_settings(settings))
+        self.controls.show_settings(settings, self.canvas_widget.lighting)
+
+    def set_view(self, lighting: Lighting, mouse_pressure: float) -> None:
+        """Light and mouse pressure."""
+        self.canvas_widget.lighting = lighting
+        self.canvas_widget.mouse_pressure = mouse_pressure
+
+    def step_brush(self, step: int) -> None:
+        """Next (+1) or previous (-1) brush preset."""
+        names = brush_names()
+        i = names.index(self.settings.brush) if self.settings.brush in names else 0
+        self.apply_settings(replace(self.settings, brush=names[(i + step) % len(names)]))
+
+    def scale_brush(self, factor: float) -> None:
+        """Brush size times ``factor`` (within the allowed range)."""
+        scale = float(np.clip(self.settings.brush_scale * factor, MIN_SCALE, MAX_SCALE))
+        self.apply_settings(replace(self.settings, brush_scale=round(scale, 3)))
+
+    def change_force(self, delta: float) -> None:
+        """Force scale plus ``delta`` (0 to 10)."""
+        scale = float(np.clip(self.settings.force_scale + delta, 0.0, 10.0))
+        self.apply_settings(replace(self.settings, force_scale=scale))
+
+    def next_model(self) -> None:
+        """Cycle the fluid model."""
+        models = list(MODEL_LABELS)
+        i = (models.index(self.settings.fluid_model) + 1) % len(models)
+        self.apply_settings(replace(self.settings, fluid_model=models[i]))
+
+    def turn_light(self, degrees: float) -> None:
+        """Turn the light's azimuth."""
+        light = self.canvas_widget.lighting
+        lighting = replace(light, azimuth_deg=(light.azimuth_deg + degrees) % 360.0)
+        self.canvas_widget.lighting = lighting
+        self.controls.show_settings(self.settings, lighting)
+
+    def undo(self) -> None:
+        """Undo the last stroke."""
+        self.worker.submit(actions.undo())
+
+    def redo(self) -> None:
+        """Redo."""
+        self.worker.submit(actions.redo())
+
+    # --- documents ------------------------------------------------------------------------------
+    def set_document(self, path: Path | None) -> None:
+        """The file the canvas is saved to."""
+        self.document = path
+        self.setWindowTitle(f"paintapp paint - {path.name if path else 'untitled'}")
+
+    def picture_for(self, canvas: Canvas) -> np.ndarray | None:
+        """The lit picture of the display canvas, if it matches ``canvas``'s size."""
+        rgba = self.canvas_widget.render_picture()
+        if rgba is None or rgba.shape[:2] != (canvas.height, canvas.width):
+            return None
+        return rgba
+
+    def autosave(self, force: bool = False) -> None:
+        """Write the recovery file if the canvas changed since the last one."""
+        if not force and self.shared.version == self.recovery.saved_version:
+            return
+        canvas, version = self.shared.snapshot()
+        document = str(self.document) if self.document else None
+        journal = str(self.journal.path) if self.journal.path else None
+        self.recovery.save_async(canvas, version, document, journal)
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        """Offer to save unsaved paint, stop the threads; a clean exit removes the autosave."""
+        if self.interactive and self.shared.version != self.saved_version:
+            buttons = QMessageBox.StandardButton
+            answer = QMessageBox.question(
+                self,
+                "Unsaved paint",
+                "Save the canvas before closing?",
+                buttons.Save | buttons.Discard | buttons.Cancel,
+            )
+            if answer == buttons.Cancel or (answer == buttons.Save and not files.save_canvas(self)):
+                event.ignore()
+                return
+        self.render_timer.stop()
+        self.autosave_timer.stop()
+        self.worker.stop()
+        if self.link is not None:
+            self.link.stop()
+        self.recovery.discard()
+        event.accept()

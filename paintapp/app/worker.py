@@ -1,0 +1,333 @@
+"""The simulation worker: a thread that steps the painting session as fast as it can.
+
+Each pass of its loop:
+
+1. runs the commands the GUI queued (palette, brush, scene, undo/redo, a new canvas);
+2. takes the latest input: with a tablet or mouse, the samples the GUI pushed since the last pass
+   (only pen-down/pen-up transitions and the newest sample are kept; while the pen is held still
+   the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
+   pose the servo loop published;
+3. stamps each sample with the session clock, hands it to the
+   :class:`~paintapp.session.PaintingSession` (which publishes the force to the servo loop's
+   channel) and journals it;
+4. copies the canvas region that changed into the display canvas (under the shared lock, only
+   for the copy), grows the current stroke's region, commits the stroke to the undo history when
+   the brush leaves the paint, and publishes a :class:`~paintapp.app.shared.WorkerStatus`.
+
+The session clock advances with wall time but by at most ``MAX_STEP_S`` per sample, so a slow
+step never makes the next one longer (the simulation slows down instead of falling behind).
+A failing device ends the stroke (it is kept, undoable and journalled), lifts the brush and
+switches the input back to the tablet or mouse; nothing painted is lost.
+"""
+
+from __future__ import annotations
+
+import collections
+import queue
+import sys
+import threading
+import time
+import traceback
+from collections.abc import Callable
+
+import numpy as np
+
+from brushes import StylusSample
+from paintapp.app.haptic_link import HapticLink, sample_from_state
+from paintapp.app.history import UndoHistory, grow
+from paintapp.app.journal import Journal, make_header
+from paintapp.app.settings import (
+    PaintSettings,
+    brush_radius_m,
+    make_preset,
+    make_scene,
+    rebuild_session,
+)
+from paintapp.app.shared import AppClock, RateMeter, SharedCanvas, StatusSlot, WorkerStatus
+from paintapp.canvas import Canvas
+from paintapp.canvas_region import Box
+from paintapp.haptics.channel import ForceChannel
+from paintapp.paint import PaintScene
+from paintapp.strokes_format import StrokeHeader
+from solver.errors import InputError
+
+#: Longest session time one sample may advance, s.
+MAX_STEP_S = 0.05
+#: Pause between passes with nothing to do, s.
+IDLE_S = 0.004
+#: Pause between haptic samples while the brush is in the air, s.
+AIR_S = 0.01
+#: A stroke ends once the brush has been out of the paint this long (wall time, s), so a
+#: haptic tip bouncing on the canvas makes one stroke, not many.
+STROKE_GAP_S = 0.15
+
+Command = Callable[["SimulationWorker"], None]
+
+
+class SimulationWorker(threading.Thread):
+    """Owns the live canvas and the painting session (see the module docstring).
+
+    Args:
+        canvas: the live canvas (the worker's from now on).
+        shared: the display canvas it publishes to.
+        settings: the initial paint settings.
+        pigments: the pigments the palette offers (the journal header lists them).
+        journal: where records go.
+        user_scene: the scene given on the command line, if any.
+        link: the haptic device link, or None for tablet/mouse input.
+        clock: the app clock.
+    """
+
+    def __init__(
+        self,
+        canvas: Canvas,
+        shared: SharedCanvas,
+        settings: PaintSettings,
+        pigments: tuple[str, ...],
+        journal: Journal,
+        user_scene: PaintScene | None = None,
+        link: HapticLink | None = None,
+        clock: AppClock | None = None,
+    ) -> None:
+        super().__init__(name="paint-simulation", daemon=True)
+        self.live = canvas
+        self.shared = shared
+        self.settings = settings
+        self.pigments = pigments
+        self.journal = journal
+        self.user_scene = user_scene
+        self.link = link
+        self.clock = clock or AppClock()
+        self.forces = link.loop.forces if link is not None else ForceChannel()
+        self.input_kind = "haptic" if link is not None else "tablet"
+        self.status = StatusSlot()
+        self.history = UndoHistory(canvas)
+        self.session = rebuild_session(
+            None, canvas, make_preset(settings), make_scene(settings, user_scene),
+            self.input_kind, self.forces,
+        )  # fmt: skip
+        self._commands: queue.SimpleQueue[Command] = queue.SimpleQueue()
+        self._inputs: collections.deque[StylusSample] = collections.deque(maxlen=4096)
+        self._stop_event = threading.Event()
+        self._wake = threading.Event()
+        self._last_input: StylusSample | None = None
+        self._sim_t = 0.0
+        self._last_real: float | None = None
+        self._stroke: Box | None = None
+        self._stroking = False
+        self._lifted_at: float | None = None
+        self._strokes = 0
+        self._steps = RateMeter()
+        self._step_ms = 0.0
+        self.message = ""
+        self._fault: str | None = None
+        self._radius = brush_radius_m(self.session.preset)
+        self.journal.start(self.header())
+        self.idle = threading.Event()
+
+    # --- called from other threads -----------------------------------------------------------
+    def push(self, sample: StylusSample) -> None:
+        """A tablet or mouse sample (its time is replaced by the session clock)."""
+        self._inputs.append(sample)
+        self._wake.set()
+
+    def submit(self, command: Command) -> None:
+        """Run ``command(worker)`` in the worker thread before its next step."""
+        self._commands.put(command)
+        self._wake.set()
+
+    def stop(self, timeout_s: float = 10.0) -> None:
+        """Stop the thread (the current stroke is committed) and close the journal."""
+        self._stop_event.set()
+        self._wake.set()
+        if self.is_alive():
+            self.join(timeout_s)
+
+    # --- the loop ------------------------------------------------------------------------------
+    def run(self) -> None:
+        try:
+            while not self._stop_event.is_set():
+                self._run_commands()
+                self._end_stroke_after_gap()
+                if not self._pass():
+                    self.idle.set()
+                    self._wake.wait(IDLE_S)
+                    self._wake.clear()
+        finally:
+            self.end_stroke()
+            self._publish_status()
+            self.journal.close()
+
+    def _pass(self) -> bool:
+        """One pass over the newest input; False when there was nothing to do."""
+        self._check_device()
+        samples = self._take_samples()
+        if not samples:
+            return False
+        self.idle.clear()
+        for sample in samples:
+            self._step(sample)
+        if self.link is not None and self._fault is None and not self.session.in_contact:
+            time.sleep(AIR_S)
+        return True
+
+    def _run_commands(self) -> None:
+        while True:
+            try:
+                command = self._commands.get_nowait()
+            except queue.Empty:
+                return
+            self.idle.clear()
+            try:
+                command(self)
+            except (InputError, ValueError, OSError) as exc:
+                self.message = str(exc)
+            self._sync_display()
+            self._publish_status()
+
+    # --- input ---------------------------------------------------------------------------------
+    def session_time(self) -> float:
+        """The session clock for the next record, s (see the module docstring)."""
+        real = time.perf_counter()
+        if self._last_real is not None:
+            self._sim_t += min(max(real - self._last_real, 0.0), MAX_STEP_S)
+        self._last_real = real
+        return self._sim_t
+
+    def _take_samples(self) -> list[StylusSample]:
+        if self.link is not None and self._fault is None:
+            _, state = self.link.loop.states.latest()
+            sample = None if state is None else sample_from_state(state, 0.0)
+            return [] if sample is None else [sample]
+        batch: list[StylusSample] = []
+        while self._inputs:
+            batch.append(self._inputs.popleft())
+        if not batch:
+            held = self._last_input is not None and self._last_input.pressure > 0
+            return [self._last_input] if held and self._last_input is not None else []
+        keep = [
+            s
+            for i, s in enumerate(batch)
+            if i == len(batch) - 1 or (s.pressure > 0) != (batch[i + 1].pressure > 0)
+        ]
+        self._last_input = batch[-1]
+        return keep
+
+    def _step(self, raw: StylusSample) -> None:
+        sample = StylusSample(
+            self.session_time(), raw.position_m, raw.pressure, raw.tilt_rad, raw.twist_rad,
+            raw.buttons,
+        )  # fmt: skip
+        begin = time.perf_counter()
+        try:
+            step = self.session.sample(sample)
+        except (InputError, ValueError, FloatingPointError) as exc:
+            self.message = f"step skipped: {exc}"
+            return
+        except Exception as exc:  # keep painting possible; the stroke so far is kept
+            traceback.print_exc(file=sys.stderr)
+            self.message = f"simulation error: {type(exc).__name__}: {exc}"
+            self.end_stroke()
+            return
+        self.journal.write(sample)
+        if step.paint is not None:
+            self._steps.tick()
+            self._step_ms = 1e3 * (time.perf_counter() - begin)
+        self._after_step()
+
+    def _after_step(self) -> None:
+        in_contact = self.session.in_contact
+        if in_contact:
+            self._lifted_at = None
+            if not self._stroking:
+                self._stroking, self._stroke = True, None
+        elif self._stroking and self._lifted_at is None:
+            self._lifted_at = time.perf_counter()
+        self._sync_display()
+        self._publish_status()
+
+    def _end_stroke_after_gap(self) -> None:
+        lifted = self._lifted_at
+        if lifted is not None and time.perf_counter() - lifted >= STROKE_GAP_S:
+            self.end_stroke()
+            self._publish_status()
+
+    def _sync_display(self) -> None:
+        box = self.live.take_dirty()
+        if box is None:
+            return
+        if self._stroking:
+            self._stroke = grow(self._stroke, box)
+        self.shared.publish_region(self.live, box)
+
+    def end_stroke(self) -> None:
+        """Commit the current stroke (if any) to the undo history."""
+        if not self._stroking:
+            return
+        self._sync_display()
+        self._stroking = False
+        self._lifted_at = None
+        if self.history.commit(self.live, self._stroke) is not None:
+            self._strokes += 1
+        self._stroke = None
+
+    # --- device --------------------------------------------------------------------------------
+    def _check_device(self) -> None:
+        if self.link is None or self._fault is not None or self.link.fault is None:
+            return
+        self._fault = self.link.fault
+        t = self.session_time()
+        self.journal.marker(t, f"device fault: {self._fault}")
+        last = self.session.tracker.last
+        xy = last.position_m[:2] if last is not None else np.zeros(2)
+        self._step(StylusSample(t, np.array([xy[0], xy[1], 0.01]), 0.0))  # lift the brush
+        self.end_stroke()
+        self.input_kind = "tablet"
+        self.rebuild()
+        self.journal.start(self.header())
+        self.message = f"device stopped ({self._fault}); painting continues with the pointer"
+        self._publish_status()
+
+    # --- helpers for commands ------------------------------------------------------------------
+    def header(self) -> StrokeHeader:
+        """The journal header for the current canvas, brush, scene and input."""
+        kind = "haptic" if self.input_kind == "haptic" else "tablet"
+        return make_header(
+            self.live, self.settings.brush, self.pigments, self.session.scene.name, kind
+        )
+
+    def rebuild(self) -> None:
+        """A new session for the current settings (after a brush, scene or canvas change)."""
+        preset = make_preset(self.settings)
+        scene = make_scene(self.settings, self.user_scene)
+        self.session = rebuild_session(
+            self.session, self.live, preset, scene, self.input_kind, self.forces
+        )
+        self._radius = brush_radius_m(preset)
+
+    def _publish_status(self) -> None:
+        last = self.session.tracker.last
+        grid = None
+        if self.session.in_contact:
+            window = self.session.model.window
+            x0, y0 = window.origin_m
+            size = window.cell_size_m
+            grid = (x0, y0, x0 + window.cells[0] * size, y0 + window.cells[1] * size)
+        _, sample = self.forces.latest()
+        status = WorkerStatus(
+            sim_hz=self._steps.rate(),
+            step_ms=self._step_ms,
+            tip_m=None if last is None else (float(last.position_m[0]), float(last.position_m[1])),
+            in_contact=self.session.in_contact,
+            brush_radius_m=self._radius * (last.splay if last is not None else 1.0),
+            grid_m=grid,
+            force_n=np.zeros(3) if sample is None else sample.force,
+            torque_nm=np.zeros(3) if sample is None else sample.torque,
+            reservoir_m3=self.session.reservoir.total_m3,
+            strokes=self._strokes,
+            undo=self.history.undo_count,
+            redo=self.history.redo_count,
+            fault=self._fault,
+            message=self.journal.error or self.message,
+        )
+        self.status.publish(status)

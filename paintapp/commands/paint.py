@@ -1,0 +1,87 @@
+"""``paintapp paint [CANVAS.exr] [--device sim|hid:VID:PID|none] [--scene SCENE.toml]
+[--record S.jsonl]``: the interactive painting window.
+
+Paint with a pen tablet (pressure, tilt, twist) or the mouse on a canvas of viscous paint,
+simulated live; with a haptic device (``--device``) the brush is steered by the device and its
+force reaches the hand through the 1 kHz servo loop (``sim`` is a simulated hand that follows the
+pointer). Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
+for crash recovery. Press F1 in the window for the keyboard shortcuts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from paintapp.app.haptic_link import parse_device
+from paintapp.app.launch import NO_DISPLAY, display_available
+from paintapp.app.options import PaintOptions
+from paintapp.app.recovery import default_recovery_dir
+from paintapp.app.settings import PaintSettings, brush_names
+from paintapp.paint import FLUID_MODELS, load_paint_scene
+from solver.errors import InputError
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "paint",
+        help="open the painting window (tablet, mouse or haptic device)",
+        description=__doc__.split("\n\n", 1)[1],
+    )
+    parser.add_argument("canvas", nargs="?", type=Path, metavar="CANVAS.exr", help="canvas to open")
+    parser.add_argument(
+        "--device", default="none", metavar="sim|hid:VID:PID|none", help="haptic device"
+    )
+    parser.add_argument("--scene", metavar="SCENE", help="painting scene: a name or a .toml file")
+    parser.add_argument("--record", type=Path, metavar="S.jsonl", help="journal every stroke here")
+    parser.add_argument(
+        "--overwrite", action="store_true", help="allow --record to replace an existing file"
+    )
+    parser.add_argument("--brush", default="round_large", help="brush preset to start with")
+    parser.add_argument("--model", choices=FLUID_MODELS, help="fluid model to start with")
+    parser.add_argument("--force-scale", type=float, default=4.0, help="haptic force scale")
+    parser.add_argument(
+        "--autosave", type=float, default=60.0, metavar="S", help="autosave interval (0: off)"
+    )
+    parser.add_argument("--recovery-dir", type=Path, help="autosave folder")
+    parser.add_argument(
+        "--recover", choices=("ask", "yes", "no"), default="ask", help="after a crash"
+    )
+    parser.set_defaults(func=run)
+
+
+def options_from_args(args: argparse.Namespace) -> PaintOptions:
+    """Validate the arguments into :class:`PaintOptions` (InputError on bad values)."""
+    if args.brush not in brush_names():
+        raise InputError(f"unknown brush {args.brush!r}; known: {', '.join(brush_names())}")
+    if args.record is not None and args.record.exists() and not args.overwrite:
+        raise InputError("the recording file exists; use --overwrite", source=str(args.record))
+    if args.canvas is not None and not args.canvas.is_file():
+        raise InputError("no such canvas file", source=str(args.canvas))
+    if not 0.0 <= args.autosave <= 86400.0:
+        raise InputError("expected an interval in [0, 86400] s", key="--autosave")
+    scene = load_paint_scene(args.scene) if args.scene else None
+    model = args.model or (scene.fluid_model if scene else "grid3d")
+    settings = PaintSettings(brush=args.brush, fluid_model=model, force_scale=args.force_scale)
+    return PaintOptions(
+        canvas_path=args.canvas,
+        device=parse_device(args.device),
+        scene=scene,
+        record=args.record,
+        overwrite_record=args.overwrite,
+        recovery_dir=args.recovery_dir or default_recovery_dir(),
+        autosave_s=args.autosave,
+        recover=args.recover,
+        settings=settings,
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    if not display_available():
+        print(f"paintapp paint: {NO_DISPLAY}", file=sys.stderr)
+        return 2
+    options = options_from_args(args)
+    from paintapp.app.launch import run_paint
+
+    return run_paint(options)

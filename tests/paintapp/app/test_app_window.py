@@ -1,0 +1,179 @@
+"""The real painting window under Xvfb: a tablet stroke paints where it went, is journalled,
+undoes and redoes, and the window shows the canvas and the HUD."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from paintapp.app.haptic_link import parse_device
+from paintapp.app.options import PaintOptions
+from paintapp.replay import replay
+from paintapp.strokes import read_strokes
+from paintapp.strokes_format import LoadPigment, Marker
+
+START_M, END_M = (0.05, 0.06), (0.13, 0.06)
+
+
+def _options(tmp_path: Path, **kw) -> PaintOptions:
+    return PaintOptions(
+        record=tmp_path / "strokes.jsonl",
+        recovery_dir=tmp_path / "recovery",
+        autosave_s=0,
+        recover="no",
+        **kw,
+    )
+
+
+@pytest.fixture
+def window(qapp, pump, tmp_path):
+    from paintapp.app.launch import create_window
+
+    _, win = create_window(_options(tmp_path), interactive=False)
+    assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
+    yield win
+    win.close()
+    pump(0.1)
+
+
+def _idle(win, pump, strokes: int) -> None:
+    done = pump(
+        20.0, lambda: win.worker.status.get().strokes >= strokes and win.worker.idle.is_set()
+    )
+    assert done, f"the worker did not finish the stroke: {win.worker.status.get()}"
+
+
+def _paint(win) -> np.ndarray:
+    with win.shared.lock:
+        return win.shared.canvas.paint_m.sum(axis=0).copy()
+
+
+def test_stroke_paints_journals_undoes_and_shows(window, pump, stroke, tmp_path):
+    win = window
+    win.load_pigment("ultramarine_blue")
+    stroke(win, START_M, END_M)
+    _idle(win, pump, 1)
+    painted = _paint(win)
+    canvas = win.shared.canvas
+    dx = canvas.texel_size_m[0]
+
+    # Paint lies along the stroke, and nowhere else.
+    ys, xs = np.nonzero(painted > 1e-7)
+    assert len(xs) > 200
+    x_m, y_m = (xs + 0.5) * dx, (ys + 0.5) * dx
+    reach = 2.0 * win.worker.status.get().brush_radius_m + 0.005
+    assert np.all(np.abs(y_m - START_M[1]) < reach)
+    assert x_m.min() > START_M[0] - reach and x_m.max() < END_M[0] + reach
+    mid = canvas.metres_to_texel(0.5 * (START_M[0] + END_M[0]), START_M[1])
+    assert painted[int(mid[1]), int(mid[0])] > 1e-6, "no paint in the middle of the stroke"
+    assert painted[:, :100].max() == 0 and painted[:150].max() == 0
+
+    # The journal holds the dip and the stroke, and replays to the same canvas.
+    strokes = read_strokes(tmp_path / "strokes.jsonl")
+    assert any(isinstance(r, LoadPigment) for r in strokes.records)
+    down = [s for s in strokes.samples if s.pressure > 0]
+    assert len(down) >= 5
+    xs_rec = [float(s.position_m[0]) for s in down]
+    assert min(xs_rec) == pytest.approx(START_M[0], abs=1e-3)
+    assert max(xs_rec) == pytest.approx(END_M[0], abs=1e-3)
+    again = replay(strokes).canvas
+    assert np.allclose(again.paint_m.sum(axis=0), painted, atol=1e-9)
+
+    # Screenshot: canvas with the stroke and the HUD.
+    shot = win.grab().toImage()
+    widget = win.canvas_widget
+    px, py = widget.mapping().to_widget(0.5 * (START_M[0] + END_M[0]), START_M[1])
+    origin = widget.mapTo(win, widget.rect().topLeft())
+    colour = shot.pixelColor(origin.x() + int(px), origin.y() + int(py))
+    assert colour.blue() > colour.red() + 40, f"no blue paint on screen: {colour.name()}"
+    hud_box = _region(shot, origin.x() + 10, origin.y() + 10, 220, 90)
+    win.hud.show_text = False
+    win.hud.update()
+    pump(0.2)
+    bare = _region(win.grab().toImage(), origin.x() + 10, origin.y() + 10, 220, 90)
+    assert np.mean(np.abs(hud_box - bare)) > 10, "the HUD is not on screen"
+    win.hud.show_text = True
+
+    # Undo removes the stroke, redo brings it back.
+    win.undo()
+    assert pump(5.0, lambda: win.worker.status.get().undo == 0)
+    pump(0.1)
+    assert _paint(win).max() == 0
+    win.redo()
+    assert pump(5.0, lambda: win.worker.status.get().redo == 0)
+    pump(0.1)
+    assert np.array_equal(_paint(win), painted)
+    labels = [
+        r.label for r in read_strokes(tmp_path / "strokes.jsonl").records if isinstance(r, Marker)
+    ]
+    assert labels == ["undo", "redo"]
+
+
+def _region(image, x: int, y: int, w: int, h: int) -> np.ndarray:
+    return np.array(
+        [
+            [image.pixelColor(x + i, y + j).lightness() for i in range(0, w, 2)]
+            for j in range(0, h, 2)
+        ],
+        dtype=np.float64,
+    )
+
+
+def test_help_overlay_and_shortcut_actions(window, pump):
+    win = window
+    assert not win.help.isVisible()
+    win.actions_by_name["help"].trigger()
+    pump(0.1)
+    assert win.help.isVisible()
+    win.actions_by_name["model"].trigger()
+    assert win.settings.fluid_model == "depth_averaged"
+    win.actions_by_name["larger"].trigger()
+    assert win.settings.brush_scale == pytest.approx(1.25)
+    assert pump(5.0, lambda: win.worker.session.scene.fluid_model == "depth_averaged")
+
+
+def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_path):
+    """With --device sim the servo loop steers the brush; a device failure mid-stroke keeps the
+    stroke (undoable, journalled) and hands the brush back to the pointer."""
+    from paintapp.app.launch import create_window
+    from paintapp.haptics.device import DeviceError
+
+    _, win = create_window(_options(tmp_path, device=parse_device("sim")), interactive=False)
+    try:
+        win.load_pigment("cadmium_red")
+        device = win.link.loop.device
+        real_read = device.read
+        calls = {"n": 0, "fail_after": None}
+
+        def flaky_read():
+            calls["n"] += 1
+            if calls["fail_after"] is not None and calls["n"] > calls["fail_after"]:
+                raise DeviceError("unplugged")
+            return real_read()
+
+        device.read = flaky_read
+        win.link.target.set(START_M[0], START_M[1], 0.0, False)
+        pump(0.5)
+        rate, jitter, seen = win.link.clock.live()
+        assert seen > 100 and rate > 500, (rate, jitter)
+        win.link.target.set(START_M[0], START_M[1], 1.0, True)
+        assert pump(10.0, lambda: win.worker.status.get().in_contact), "the hand never touched"
+        for i in range(30):
+            x = START_M[0] + (END_M[0] - START_M[0]) * i / 29
+            win.link.target.set(x, START_M[1], 1.0, True)
+            pump(0.03)
+        calls["fail_after"] = calls["n"]  # unplug mid-stroke
+        assert pump(5.0, lambda: win.worker.status.get().fault is not None)
+        status = win.worker.status.get()
+        assert status.strokes >= 1 and status.undo == status.strokes and not status.in_contact
+        assert _paint(win).max() > 0
+        first = read_strokes(tmp_path / "strokes.jsonl")
+        assert any(isinstance(r, Marker) and "device fault" in r.label for r in first.records)
+        assert (tmp_path / "strokes-2.jsonl").is_file()
+        stroke(win, START_M, END_M)  # the pointer paints on
+        _idle(win, pump, status.strokes + 1)
+    finally:
+        win.close()
+        pump(0.1)
