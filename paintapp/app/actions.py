@@ -4,12 +4,15 @@ Each function returns a command (a callable taking the worker); the GUI queues i
 :meth:`SimulationWorker.submit`. Commands end the current stroke first where they change the
 brush or the canvas, so every stroke lands in the undo history whole. Each one is journalled:
 palette dips, brush switches and cleans as the stroke format's events, the rest as markers.
+A load taken up from the mixing slab is journalled as a ``clean`` and one ``load_pigment`` per
+pigment in the brush (see :func:`slab_dab`).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from brushes import PaintReservoir
 from paintapp.app.history import UndoHistory, copy_canvas
 from paintapp.app.settings import PaintSettings
 from paintapp.canvas import Canvas
@@ -119,3 +122,73 @@ def replace_canvas(canvas: Canvas, note: str) -> Command:
         w.message = note
 
     return run
+
+
+# --- the mixing slab ---------------------------------------------------------------------------
+def slab_put(pigment: str) -> Command:
+    """Put a blob of ``pigment`` on the mixing slab (journalled as a marker)."""
+
+    def run(w: SimulationWorker) -> None:
+        if pigment not in w.pigments:
+            raise InputError(f"no pigment {pigment!r} on the palette", key="pigment")
+        w.slab.put(pigment)
+        w.publish_slab()
+        w.journal.marker(w.session_time(), f"slab put {pigment}")
+        w.message = f"{pigment} put on the slab"
+
+    return run
+
+
+def slab_dab(x_m: float, y_m: float) -> Command:
+    """Dab the brush on the slab at (x_m, y_m): it leaves part of its load, stirs the paint
+    there and picks some up (see :mod:`paintapp.app.slab`)."""
+
+    def run(w: SimulationWorker) -> None:
+        _mix_into_brush(w, lambda brush: w.slab.dab(brush, x_m, y_m), "slab dab")
+
+    return run
+
+
+def slab_mix() -> Command:
+    """Knife all the paint on the slab together and load the brush from it."""
+
+    def run(w: SimulationWorker) -> None:
+        _mix_into_brush(w, w.slab.mix_all, "slab mix")
+
+    return run
+
+
+def slab_clear() -> Command:
+    """Scrape the slab clean (journalled as a marker)."""
+
+    def run(w: SimulationWorker) -> None:
+        w.slab.clear()
+        w.publish_slab()
+        w.journal.marker(w.session_time(), "slab clear")
+        w.message = "slab cleared"
+
+    return run
+
+
+def _mix_into_brush(w: SimulationWorker, work, label: str) -> None:
+    """Work the brush on the slab, then give the session's brush the resulting load.
+
+    The stroke format knows only ``clean`` and ``load_pigment``, so the new load is applied (and
+    journalled) as a ``clean`` followed by one ``load_pigment`` per pigment the brush now
+    carries, preceded by a marker. A replay thus gives the brush exactly the same paint, and the
+    session's paint bookkeeping stays balanced; the slab itself is not replayed.
+    """
+    w.end_stroke()
+    old = w.session.reservoir
+    brush = PaintReservoir(old.capacity_m3, old.volumes_m3)
+    work(brush)
+    w.publish_slab()
+    t = w.session_time()
+    w.journal.marker(t, label)
+    events: list[CleanBrush | LoadPigment] = [CleanBrush(t)]
+    events += [LoadPigment(t, name, v) for name, v in brush.volumes_m3.items() if v > 0.0]
+    for event in events:
+        w.session.handle(event)  # adds pigments new to the canvas, as a palette dip does
+        w.journal.write(event)
+    mix = ", ".join(f"{name} {100 * f:.0f}%" for name, f in brush.fractions().items() if f > 0)
+    w.message = f"brush: {mix or 'dry'}"

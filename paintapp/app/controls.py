@@ -3,6 +3,10 @@
 The panel does not act itself; it calls the window's handlers:
 
 - ``on_pigment(name)``: a palette swatch was clicked (dip the brush);
+- ``on_slab_put(name)``: a swatch was Shift+clicked, or clicked with "put on slab" down (put a
+  blob of the pigment on the mixing slab);
+- ``on_slab_dab(x_m, y_m)``, ``on_slab_mix()``, ``on_slab_clear()``: the mixing slab (dab the
+  brush on it, knife it all together and load the brush, scrape it clean);
 - ``on_clean()``: the clean-brush button;
 - ``on_settings(settings)``: brush preset or size, load, viscosity, fluid model, force scale;
 - ``on_view(lighting, mouse_pressure)``: light direction, relief, mouse pressure.
@@ -19,6 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QMouseEvent
 from PySide6.QtWidgets import (
     QComboBox,
     QFormLayout,
@@ -32,6 +37,7 @@ from PySide6.QtWidgets import (
 )
 
 from paintapp.app.settings import MODEL_LABELS, PaintSettings, brush_names
+from paintapp.app.slab_widget import SlabWidget
 from paintapp.pigments import PigmentLibrary
 from paintapp.pigments_spectral import srgb_encode
 from paintapp.render import Lighting
@@ -67,6 +73,27 @@ def slider_to_viscosity(s: int) -> float:
     return float(10 ** (s / 100 - 1))
 
 
+class SwatchButton(QPushButton):
+    """A palette swatch that remembers the keyboard modifiers of its last click."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+        self.modifiers = Qt.KeyboardModifier.NoModifier
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:
+        self.modifiers = event.modifiers()
+        super().mousePressEvent(event)
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
+        self.modifiers |= event.modifiers()
+        super().mouseReleaseEvent(event)
+
+    def take_modifiers(self) -> Qt.KeyboardModifier:
+        """The modifiers of the click just made (cleared for the next one)."""
+        mods, self.modifiers = self.modifiers, Qt.KeyboardModifier.NoModifier
+        return mods
+
+
 class ControlsPanel(QWidget):
     """See the module docstring."""
 
@@ -86,6 +113,7 @@ class ControlsPanel(QWidget):
         self.mouse_pressure = 0.6
         layout = QVBoxLayout(self)
         layout.addWidget(self._palette(library, pigments))
+        layout.addWidget(self._slab_box(library))
         layout.addWidget(self._brush_box())
         layout.addWidget(self._paint_box(scene_viscosity))
         layout.addWidget(self._view_box())
@@ -94,21 +122,39 @@ class ControlsPanel(QWidget):
 
     # --- building -------------------------------------------------------------------------------
     def _palette(self, library: PigmentLibrary, pigments: tuple[str, ...]) -> QGroupBox:
-        box = QGroupBox("Palette (click to load the brush)")
+        box = QGroupBox("Palette (click: load, Shift+click: to slab)")
         grid = QGridLayout(box)
-        self.swatches: dict[str, QPushButton] = {}
+        self.swatches: dict[str, SwatchButton] = {}
         for i, name in enumerate(pigments):
-            button = QPushButton(str((i + 1) % 10) if i < 10 else "")
+            button = SwatchButton(str((i + 1) % 10) if i < 10 else "")
             button.setToolTip(library[name].label or name)
             colour = swatch_colour(library, name)
             text = text_colour(colour)
             button.setStyleSheet(f"background:{colour}; color:{text}; min-height:26px")
-            button.clicked.connect(lambda _=False, n=name: self.handlers["pigment"](n))
+            button.clicked.connect(lambda _=False, n=name: self._swatch_clicked(n))
             grid.addWidget(button, i // 5, i % 5)
             self.swatches[name] = button
         clean = QPushButton("Clean brush (C)")
         clean.clicked.connect(lambda: self.handlers["clean"]())
         grid.addWidget(clean, (len(pigments) + 4) // 5, 0, 1, 5)
+        return box
+
+    def _slab_box(self, library: PigmentLibrary) -> QGroupBox:
+        box = QGroupBox("Mixing slab (drag to mix and pick up)")
+        grid = QGridLayout(box)
+        self.slab = SlabWidget(library, lambda x, y: self.handlers["slab_dab"](x, y))
+        grid.addWidget(self.slab, 0, 0, 1, 2, Qt.AlignmentFlag.AlignHCenter)
+        self.put_on_slab = QPushButton("Put on slab")
+        self.put_on_slab.setCheckable(True)
+        self.put_on_slab.setToolTip("While down, palette clicks put paint on the slab")
+        mix = QPushButton("Mix && load (X)")
+        mix.setToolTip("Knife all the paint on the slab together and load the brush from it")
+        mix.clicked.connect(lambda: self.handlers["slab_mix"]())
+        clear = QPushButton("Clear slab (Shift+X)")
+        clear.clicked.connect(lambda: self.handlers["slab_clear"]())
+        grid.addWidget(self.put_on_slab, 1, 0)
+        grid.addWidget(mix, 1, 1)
+        grid.addWidget(clear, 2, 0, 1, 2)
         return box
 
     def _brush_box(self) -> QGroupBox:
@@ -168,6 +214,13 @@ class ControlsPanel(QWidget):
         return box
 
     # --- events ---------------------------------------------------------------------------------
+    def _swatch_clicked(self, name: str) -> None:
+        shift = bool(self.swatches[name].take_modifiers() & Qt.KeyboardModifier.ShiftModifier)
+        if shift or self.put_on_slab.isChecked():
+            self.handlers["slab_put"](name)
+        else:
+            self.handlers["pigment"](name)
+
     def _change(self, **changes: object) -> None:
         self.settings = replace(self.settings, **changes)
         self.handlers["settings"](self.settings)

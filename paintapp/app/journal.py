@@ -7,8 +7,12 @@ the journal (``paintapp replay``) paints the same strokes in the same steps.
 
 Actions the stroke format has no event for are written as ``marker`` events, which replay
 ignores: ``undo``, ``redo``, ``fluid_model <name>``, ``viscosity_pa_s <v>``, ``brush_scale <s>``,
-``device fault: ...``. A replay therefore repaints undone strokes, and the session settings in
-force are those of the header's scene.
+``device fault: ...``, ``slab put <pigment>``, ``slab clear``. A replay therefore repaints undone
+strokes, and the session settings in force are those of the header's scene.
+
+Paint picked up from the mixing slab is written as a ``slab dab`` or ``slab mix`` marker, a
+``clean`` and one ``load_pigment`` per pigment the brush then carries, so a replay loads the brush
+with the same mixture though it does not replay the slab.
 
 When the canvas is replaced (new canvas, open, recovery) the journal moves on to a new file next
 to the first one (``name-2.jsonl``, ``name-3.jsonl``, ...), since a stroke file describes one

@@ -23,6 +23,8 @@ SHORTCUTS: tuple[tuple[str, tuple[str, ...], str], ...] = (
         ("1", "2", "3", "4", "5", "6", "7", "8", "9", "0"),
         "dip the brush in pigment 1-10",
     ),
+    ("slab_mix", ("X",), "mix the paint on the slab and load the brush from it"),
+    ("slab_clear", ("Shift+X",), "clear the mixing slab"),
     ("next_brush", ("B",), "next brush preset"),
     ("prev_brush", ("Shift+B",), "previous brush preset"),
     ("smaller", ("[",), "smaller brush"),
@@ -43,6 +45,8 @@ MOUSE_HELP = (
     ("Shift + drag", "paint at full pressure"),
     ("Alt + drag", "paint lightly"),
     ("pen tablet", "pressure, tilt and twist shape the brush"),
+    ("Shift + swatch", "put the pigment on the mixing slab"),
+    ("drag on the slab", "mix there and pick up the mixture"),
 )
 
 

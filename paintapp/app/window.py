@@ -80,6 +80,7 @@ class PaintWindow(QMainWindow):
         self.saved_version = 0
         self._frame = 0
         self._fault_seen = False
+        self._slab_seq = 0
         self._build_widgets()
         self._build_actions()
         self._start_timers()
@@ -100,6 +101,10 @@ class PaintWindow(QMainWindow):
         handlers = {
             "pigment": self.load_pigment,
             "clean": self.clean_brush,
+            "slab_put": self.slab_put,
+            "slab_dab": self.slab_dab,
+            "slab_mix": self.slab_mix,
+            "slab_clear": self.slab_clear,
             "settings": self.apply_settings,
             "view": self.set_view,
         }
@@ -129,6 +134,8 @@ class PaintWindow(QMainWindow):
             "save_as": lambda: files.save_canvas(self, ask=True),
             "export": lambda: files.export_picture(self),
             "clean": self.clean_brush,
+            "slab_mix": self.slab_mix,
+            "slab_clear": self.slab_clear,
             "next_brush": lambda: self.step_brush(1),
             "prev_brush": lambda: self.step_brush(-1),
             "smaller": lambda: self.scale_brush(1 / 1.25),
@@ -153,6 +160,7 @@ class PaintWindow(QMainWindow):
         where = {"new": "file", "open": "file", "save": "file", "save_as": "file"}
         where |= {"export": "file", "quit": "file", "undo": "edit", "redo": "edit"}
         where |= {"clean": "brush", "next_brush": "brush", "prev_brush": "brush"}
+        where |= {"slab_mix": "brush", "slab_clear": "brush"}
         where |= {"smaller": "brush", "larger": "brush", "model": "brush"}
         for name, keys, text in SHORTCUTS:
             if name == "pigment":
@@ -191,11 +199,18 @@ class PaintWindow(QMainWindow):
             self.hud.update()
             if self.help.isVisible():
                 self.help.update()
+            self._show_slab()
         status = self.worker.status.get()
         if status.fault and not self._fault_seen:
             self._fault_seen = True  # keep the work: autosave at once
             self.autosave(force=True)
             self.statusBar().showMessage(status.message, 15000)
+
+    def _show_slab(self) -> None:
+        seq, slab = self.worker.slab_view.latest()
+        if seq != self._slab_seq and slab is not None:
+            self._slab_seq = seq
+            self.controls.slab.show_canvas(slab)
 
     def hud_data(self) -> HudData:
         """The HUD's figures besides the worker's."""
@@ -237,6 +252,22 @@ class PaintWindow(QMainWindow):
     def clean_brush(self) -> None:
         """Wipe the brush."""
         self.worker.submit(actions.clean_brush())
+
+    def slab_put(self, name: str) -> None:
+        """Put a blob of ``name`` on the mixing slab."""
+        self.worker.submit(actions.slab_put(name))
+
+    def slab_dab(self, x_m: float, y_m: float) -> None:
+        """Dab the brush on the mixing slab at (x_m, y_m) (slab metres)."""
+        self.worker.submit(actions.slab_dab(x_m, y_m))
+
+    def slab_mix(self) -> None:
+        """Knife the slab's paint together and load the brush from it."""
+        self.worker.submit(actions.slab_mix())
+
+    def slab_clear(self) -> None:
+        """Scrape the mixing slab clean."""
+        self.worker.submit(actions.slab_clear())
 
     def apply_settings(self, settings: PaintSettings) -> None:
         """Paint on with ``settings``."""

@@ -2,7 +2,8 @@
 
 Each pass of its loop:
 
-1. runs the commands the GUI queued (palette, brush, scene, undo/redo, a new canvas);
+1. runs the commands the GUI queued (palette, mixing slab, brush, scene, undo/redo, a new
+   canvas); the worker owns the brush's paint and the mixing slab's;
 2. takes the latest input: with a tablet or mouse, the samples the GUI pushed since the last pass
    (only pen-down/pen-up transitions and the newest sample are kept; while the pen is held still
    the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
@@ -34,7 +35,7 @@ import numpy as np
 
 from brushes import StylusSample
 from paintapp.app.haptic_link import HapticLink, sample_from_state
-from paintapp.app.history import UndoHistory, grow
+from paintapp.app.history import UndoHistory, copy_canvas, grow
 from paintapp.app.journal import Journal, make_header
 from paintapp.app.settings import (
     PaintSettings,
@@ -44,9 +45,10 @@ from paintapp.app.settings import (
     rebuild_session,
 )
 from paintapp.app.shared import AppClock, RateMeter, SharedCanvas, StatusSlot, WorkerStatus
+from paintapp.app.slab import MixingSlab
 from paintapp.canvas import Canvas
 from paintapp.canvas_region import Box
-from paintapp.haptics.channel import ForceChannel
+from paintapp.haptics.channel import ForceChannel, LatestValue
 from paintapp.paint import PaintScene
 from paintapp.strokes_format import StrokeHeader
 from solver.errors import InputError
@@ -101,6 +103,9 @@ class SimulationWorker(threading.Thread):
         self.forces = link.loop.forces if link is not None else ForceChannel()
         self.input_kind = "haptic" if link is not None else "tablet"
         self.status = StatusSlot()
+        self.slab = MixingSlab()
+        #: Copies of the slab's canvas for the controls panel (published after each change).
+        self.slab_view: LatestValue[Canvas] = LatestValue()
         self.history = UndoHistory(canvas)
         self.session = rebuild_session(
             None, canvas, make_preset(settings), make_scene(settings, user_scene),
@@ -295,6 +300,10 @@ class SimulationWorker(threading.Thread):
         return make_header(
             self.live, self.settings.brush, self.pigments, self.session.scene.name, kind
         )
+
+    def publish_slab(self) -> None:
+        """Show the mixing slab's paint as it is now."""
+        self.slab_view.publish(copy_canvas(self.slab.canvas))
 
     def rebuild(self) -> None:
         """A new session for the current settings (after a brush, scene or canvas change)."""
