@@ -11,6 +11,11 @@ gives the same canvas and the same force trace.
 
 The force trace is the loop's tick log: per tick, its time and the force and torque *written to
 the device* (filtered, scaled by the force scale, made safe), in the canvas frame.
+
+The device the replay plays on is a simulated 6-DOF stylus by default; ``device`` names another
+(:data:`REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
+then models no more than that device reads. ``fidelity`` replays with the fluid settings of a
+preset (:mod:`paintapp.paint.fidelity`) applied on top of the scene.
 """
 
 from __future__ import annotations
@@ -19,7 +24,7 @@ import contextlib
 import math
 import time
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -28,9 +33,12 @@ from brushes import StylusSample
 from paintapp.canvas import Canvas
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.clock import VirtualClock
+from paintapp.haptics.device import DeviceInfo
 from paintapp.haptics.replay import ReplayDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
+from paintapp.haptics.simulated import SIMULATED_INFO
 from paintapp.paint import PaintScene, load_paint_scene
+from paintapp.paint.fidelity import apply_fidelity
 from paintapp.session import PaintingSession
 from paintapp.strokes import StrokeFile, StrokeHeader
 from solver.errors import InputError
@@ -47,6 +55,28 @@ FORCE_COLUMNS = (
 )
 
 
+#: Devices a replay can play on, by name: what they output decides what the session models.
+REPLAY_DEVICES: dict[str, DeviceInfo] = {
+    "6dof": SIMULATED_INFO,
+    "3dof": replace(
+        SIMULATED_INFO, name="simulated 3-DOF stylus", dof_actuated=3, max_torque_nm=0.0
+    ),
+    "tablet": replace(
+        SIMULATED_INFO, name="pen tablet (no force feedback)", dof_actuated=0,
+        max_force_n=0.0, max_torque_nm=0.0,
+    ),
+}  # fmt: skip
+
+
+def replay_device(name: str) -> DeviceInfo:
+    """The replay device called ``name``; :class:`InputError` for an unknown one."""
+    if name not in REPLAY_DEVICES:
+        raise InputError(
+            f"unknown device {name!r}; expected one of {', '.join(REPLAY_DEVICES)}", key="device"
+        )
+    return REPLAY_DEVICES[name]
+
+
 class ServoForcePath:
     """The replay's force path: a servo loop on a virtual clock playing the stroke's samples.
 
@@ -55,6 +85,7 @@ class ServoForcePath:
         channel: the force channel the session publishes into.
         config: servo configuration (tick, filter, force scale, safety).
         source: the stroke file's name, for messages.
+        info: the capabilities the replayed device claims (default: a simulated 6-DOF stylus).
     """
 
     def __init__(
@@ -63,11 +94,12 @@ class ServoForcePath:
         channel: ForceChannel,
         config: ServoConfig | None = None,
         source: str | None = None,
+        info: DeviceInfo | None = None,
     ) -> None:
         self.config = config or ServoConfig()
         self.t0_s = float(samples[0].t_s)
         self.clock = VirtualClock(self.config.tick_s, start_s=self.t0_s)
-        self.device = ReplayDevice(samples, self.clock.now_s, source=source)
+        self.device = ReplayDevice(samples, self.clock.now_s, source=source, info=info)
         self.servo = ServoLoop(self.device, channel, self.config)
         self.servo.open()
 
@@ -135,6 +167,8 @@ def replay(
     servo_config: ServoConfig | None = None,
     progress: Callable[[int], object] | None = None,
     brush_dir: str | Path | None = None,
+    fidelity: str | None = None,
+    device: str | DeviceInfo | None = None,
 ) -> ReplayResult:
     """Replay ``strokes`` (see the module docstring).
 
@@ -145,22 +179,30 @@ def replay(
         servo_config: the force path's configuration (default: 1 kHz, the paper's FIR filter).
         progress: called with 1 after each record (a progress bar's ``update``).
         brush_dir: where the named brush presets are (default: the bundled ones).
+        fidelity: ``draft``, ``standard`` or ``high`` on top of the scene (None: as written).
+        device: the device played on, by name (:data:`REPLAY_DEVICES`) or capabilities
+            (default: a simulated 6-DOF stylus).
     """
     start = time.perf_counter()
     header = strokes.header
-    canvas = canvas if canvas is not None else new_canvas(header)
+    info = replay_device(device) if isinstance(device, str) else device
     channel = ForceChannel()
     with _from_file(strokes, line=1):
+        scene = scene or load_paint_scene(header.scene)
+    scene = apply_fidelity(scene, fidelity) if fidelity is not None else scene
+    with _from_file(strokes, line=1):
+        canvas = canvas if canvas is not None else new_canvas(header)
         session = PaintingSession(
             canvas,
             header.brush,
-            scene or load_paint_scene(header.scene),
+            scene,
             input_kind=header.input_kind,
             forces=channel,
             brush_dir=brush_dir,
+            device=info,
         )
     samples = strokes.samples
-    path = ServoForcePath(samples, channel, servo_config, strokes.source) if samples else None
+    path = ServoForcePath(samples, channel, servo_config, strokes.source, info) if samples else None
     records = strokes.records
     for i, record in enumerate(records):
         with _from_file(strokes):

@@ -15,6 +15,13 @@ depth-averaged model multiplies its per-depth force by the wetted depth). The fo
 is the force on the probe. A brush in the air takes no solver steps and publishes zero force.
 Nothing non-finite is published: such a step is dropped and counted.
 
+The session models only what the scene requires (:mod:`paintapp.paint.choice`): per sample in
+contact a :class:`~paintapp.paint.selector.ModelSelector` picks the paint model (``auto``: 2D
+depth-averaged for thin paint, 3D for thick), the grid size, no fluid for a dry brush, and the
+outputs the device reads (``device``: no force work for an input-only device, no torque for one
+without torque output). Its decisions and counts are :attr:`PaintingSession.decisions` and
+:attr:`PaintingSession.choices`.
+
 Events: ``load_pigment`` dips the brush (and adds the pigment's channel to the canvas),
 ``brush`` switches to another preset with a clean brush, ``clean`` empties the brush. Every
 volume entering or leaving the brush this way is booked in ``loaded_m3`` / ``removed_m3``, so
@@ -27,6 +34,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -34,9 +42,14 @@ from brushes import BrushPreset, PaintReservoir, StylusSample, TipPose, TipTrack
 from brushes.presets import load_preset_named
 from paintapp.canvas import Canvas
 from paintapp.haptics.channel import ForceChannel
-from paintapp.paint import PaintModel, PaintScene, PaintStep, load_paint_scene, make_paint_model
+from paintapp.paint import PaintModel, PaintScene, PaintStep, load_paint_scene
+from paintapp.paint.choice import ChoiceStats, TimedDecision, needs_for_device
+from paintapp.paint.selector import ModelSelector
 from paintapp.resources import asset_path
 from paintapp.strokes_format import CleanBrush, LoadPigment, Marker, StrokeRecord, SwitchBrush
+
+if TYPE_CHECKING:
+    from paintapp.haptics.device import DeviceInfo
 
 #: Samples closer together than this (s) do not advance the paint.
 MIN_DT_S = 1e-6
@@ -68,7 +81,8 @@ class SessionStep:
 @dataclass
 class SessionStats:
     """Counts over a session: samples, paint steps, solver steps, dropped non-finite forces,
-    and the wall time (ms) spent in paint steps."""
+    the wall time (ms) spent in paint steps, samples in the air and steps of a dry brush (no
+    fluid; not counted in ``paint_steps``)."""
 
     samples: int = 0
     paint_steps: int = 0
@@ -76,6 +90,8 @@ class SessionStats:
     nonfinite_forces: int = 0
     paint_ms: float = 0.0
     step_ms: list[float] = field(default_factory=list)
+    air_samples: int = 0
+    dry_steps: int = 0
 
 
 def wet_height_m(canvas: Canvas, x_m: float, y_m: float) -> float:
@@ -110,6 +126,8 @@ class PaintingSession:
         input_kind: ``"tablet"`` (pressure sets the depth) or ``"haptic"`` (z does).
         forces: where force samples go; a new channel if None.
         brush_dir: where named presets are found (default: the bundled presets).
+        device: the force-feedback device's capabilities; no force work when it outputs no
+            force, no torque when it outputs none (None: force and torque are both read).
     """
 
     def __init__(
@@ -121,6 +139,7 @@ class PaintingSession:
         input_kind: str = "tablet",
         forces: ForceChannel | None = None,
         brush_dir: str | Path | None = None,
+        device: DeviceInfo | None = None,
     ) -> None:
         self.canvas = canvas
         self.scene = scene or load_paint_scene()
@@ -129,13 +148,29 @@ class PaintingSession:
         preset = brush if isinstance(brush, BrushPreset) else self._preset(brush)
         self.tracker = TipTracker(preset, input_kind)  # type: ignore[arg-type]
         self.reservoir = PaintReservoir(preset.capacity_m3)
-        self.model: PaintModel = make_paint_model(self.scene, canvas, preset)
+        self.needs = needs_for_device(device)
+        self.selector = ModelSelector(self.scene, canvas, preset, self.needs)
         self.time_s: float | None = None
         self.in_contact = False
         self.stats = SessionStats()
         self.loaded_m3: dict[str, float] = {}
         self.removed_m3: dict[str, float] = {}
         self._force = (np.zeros(3), np.zeros(3))
+
+    @property
+    def model(self) -> PaintModel:
+        """The paint model in use (or next to run, while the brush is in the air or dry)."""
+        return self.selector.model
+
+    @property
+    def decisions(self) -> list[TimedDecision]:
+        """Every modelling decision so far, with its reason (for ``--explain``)."""
+        return self.selector.decisions
+
+    @property
+    def choices(self) -> ChoiceStats:
+        """Counts of what ran: steps per model and per grid, switches, pigment channels."""
+        return self.selector.stats
 
     @property
     def preset(self) -> BrushPreset:
@@ -191,7 +226,7 @@ class PaintingSession:
         self.tracker.preset = preset
         self.tracker.reset()
         self.reservoir = PaintReservoir(preset.capacity_m3)
-        self.model = make_paint_model(self.scene, self.canvas, preset)
+        self.selector.set_preset(preset)
 
     def _book_removed(self, volumes: Mapping[str, float]) -> None:
         for name, v in volumes.items():
@@ -209,13 +244,20 @@ class PaintingSession:
         pose = self.tracker.update(sample, surface)
         if not pose.in_contact:
             self._lift()
+            self.stats.air_samples += 1
             return self._publish(pose, None)
+        entry = previous if self.in_contact and previous is not None else pose
         if not self.in_contact:
-            self.model.touch_down(self._touch_down_pose(previous, pose))
-            self.in_contact = True
+            entry = self._touch_down_pose(previous, pose)
+        plan = self.selector.engage(pose, self.reservoir, entry)
+        self.in_contact = True
         if dt < MIN_DT_S:
             return SessionStep(pose.t_s, pose, True, *self._force)
-        step = self.model.step(pose, dt, self.reservoir)
+        step = PaintStep() if plan.dry else self.model.step(pose, dt, self.reservoir)
+        self.selector.record(plan, step, pose.t_s, dt)
+        if plan.dry:
+            self.stats.dry_steps += 1
+            return self._publish(pose, step)
         self.stats.paint_steps += 1
         self.stats.solver_steps += step.solver_steps
         self.stats.paint_ms += step.step_ms
@@ -234,7 +276,7 @@ class PaintingSession:
 
     def _lift(self) -> None:
         if self.in_contact:
-            self.model.lift()
+            self.selector.lift()
             self.in_contact = False
 
     def _publish(self, pose: TipPose, step: PaintStep | None) -> SessionStep:

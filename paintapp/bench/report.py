@@ -38,6 +38,10 @@ def format_table(records: Sequence[Record]) -> str:
         errs = ", ".join(f"{k} {_fmt(v)}" for k, v in r["errors"].items() if v is not None)
         if "compute_ms_per_s" in c:
             errs += f"; {c['compute_ms_per_s']:.0f} ms per s"
+        if "replay_s" in c:
+            errs += f"; replay {c['replay_s']:.2f} s, {c.get('solver_steps', 0)} solver steps"
+        if c.get("speedup") is not None:
+            errs += f", {c['speedup']:.2f}x the reference's speed"
         lines.append(
             f"{r['name']:<44}{c['median_step_ms']:>9.3f}{mib:>8.2f}"
             f"{c.get('unconverged_solves', 0):>7d}  {errs}"

@@ -179,3 +179,7 @@ def run_settings(
         records.append(run_setting(setting))
     sweep_force.clear_cache()
     return records
+
+
+# The painting families register themselves (they replay strokes through the painting session).
+from paintapp.bench import painting as _painting  # noqa: E402, F401

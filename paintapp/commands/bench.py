@@ -29,7 +29,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", metavar="P.png", help="write the Pareto fronts (error vs cost)")
     p.add_argument(
         "--only", metavar="FAMILY", action="append",
-        help="run only this family (repeatable): cavity, schaefer_turek, taylor_green, sweep, rates",
+        help="run only this family (repeatable): cavity, schaefer_turek, taylor_green, sweep, "
+        "rates, painting_models, painting_fidelity",
     )  # fmt: skip
     p.set_defaults(func=run)
 

@@ -5,7 +5,8 @@ green, a thick red impasto stroke, white dragged through wet paint, and a clean 
 dragged through the impasto) through the painting session and the 1 kHz servo loop, then writes
 into DIR (default ``paintapp-demo/``): ``canvas.exr`` (the painted canvas with its paint layers),
 ``preview.png``, ``forces.csv`` (the force trace written to the device, one row per servo tick)
-and ``forces.png`` (a plot of it).
+and ``forces.png`` (a plot of it). ``--fidelity``, ``--explain`` and ``--device`` work as for
+``paintapp replay``.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from paintapp.commands.replay import add_replay_options, replay_with_progress
+from paintapp.commands.replay import add_replay_options, print_explanation, replay_with_progress
 from paintapp.replay_files import plot_forces, write_canvas_outputs, write_forces_csv
 from paintapp.resources import asset_path
 from paintapp.strokes import read_strokes
@@ -49,7 +50,9 @@ def run(args: argparse.Namespace) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     strokes = read_strokes(source)
     print(f"painting {source} ({len(strokes.records)} records, {strokes.duration_s:.1f} s)")
-    result = replay_with_progress(strokes, args.scene)
+    result = replay_with_progress(strokes, args.scene, args.fidelity, args.device)
+    if args.explain:
+        print_explanation(result, args.fidelity)
     out = args.out
     write_canvas_outputs(
         result.canvas, out / "canvas.exr", out / "preview.png", lit=not args.flat, half=args.half

@@ -5,6 +5,10 @@ canvas, and the force path through the 1 kHz servo loop -- on a virtual clock, s
 always gives the same canvas and the same force trace. Writes the canvas EXR (picture, paint
 height, wetness and pigment layers), optionally a PNG preview and the forces CSV (a header row,
 then per servo tick: time, force x/y/z in N, torque x/y/z in N m, as written to the device).
+
+``--fidelity draft|standard|high`` replays with another fidelity's fluid settings (paint at
+draft, render the final canvas at high); ``--explain`` prints every modelling decision with its
+reason and what ran; ``--device 6dof|3dof|tablet`` plays on a device with less output.
 """
 
 from __future__ import annotations
@@ -16,7 +20,9 @@ from pathlib import Path
 from tqdm import tqdm
 
 from paintapp.paint import load_paint_scene
-from paintapp.replay import ReplayResult, replay
+from paintapp.paint.fidelity import FIDELITIES, FIDELITY_NAMES
+from paintapp.replay import REPLAY_DEVICES, ReplayResult, replay
+from paintapp.replay_explain import explain_session
 from paintapp.replay_files import write_canvas_outputs, write_forces_csv
 from paintapp.strokes import StrokeFile, read_strokes
 from solver.errors import InputError
@@ -47,6 +53,22 @@ def add_replay_options(parser: argparse.ArgumentParser) -> None:
         "--flat", action="store_true", help="unlit colour in the picture (no OpenGL needed)"
     )
     parser.add_argument("--float", dest="half", action="store_false", help="32-bit EXR")
+    parser.add_argument(
+        "--fidelity",
+        choices=FIDELITY_NAMES,
+        help="fluid settings on top of the scene: "
+        + "; ".join(f"{f.name}: {f.description}" for f in FIDELITIES.values()),
+    )
+    parser.add_argument(
+        "--explain", action="store_true", help="print each modelling decision, its reason, counts"
+    )
+    parser.add_argument(
+        "--device",
+        choices=tuple(REPLAY_DEVICES),
+        default="6dof",
+        help="device played on: 6dof (force and torque, default), 3dof (no torque), tablet "
+        "(no force feedback: no force work at all)",
+    )
 
 
 def check_suffix(path: Path | None, suffix: str, what: str) -> None:
@@ -55,7 +77,12 @@ def check_suffix(path: Path | None, suffix: str, what: str) -> None:
         raise InputError(f"the {what} must be a {suffix} file", source=str(path))
 
 
-def replay_with_progress(strokes: StrokeFile, scene_name: str | None) -> ReplayResult:
+def replay_with_progress(
+    strokes: StrokeFile,
+    scene_name: str | None,
+    fidelity: str | None = None,
+    device: str | None = None,
+) -> ReplayResult:
     """Replay with a progress bar on stderr; warns about a truncated file."""
     if strokes.truncated:
         print(f"warning: {strokes.source}: {strokes.warning}", file=sys.stderr)
@@ -69,7 +96,20 @@ def replay_with_progress(strokes: StrokeFile, scene_name: str | None) -> ReplayR
     with tqdm(
         total=len(strokes.records), unit="record", desc="replay", file=sys.stderr, leave=False
     ) as bar:
-        return replay(strokes, scene, progress=bar.update)
+        return replay(strokes, scene, progress=bar.update, fidelity=fidelity, device=device)
+
+
+def print_explanation(result: ReplayResult, fidelity: str | None) -> None:
+    """Print the ``--explain`` report of a replay."""
+    s = result.session.scene
+    name = fidelity or "standard"
+    header = (
+        f"scene {s.name!r} ({s.fluid_model}), fidelity {name} ({FIDELITIES[name].description}): "
+        f"cells {'x'.join(map(str, s.cells))}, pressure tol {s.solver.pressure_tolerance:g}, "
+        f"viscosity tol {s.solver.viscosity_tolerance:g}, cap {s.solver.max_iterations}, "
+        f"advection {s.solver.advection}, max step {s.max_step_s:.4g} s"
+    )
+    print(explain_session(result.session, header))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -77,7 +117,9 @@ def run(args: argparse.Namespace) -> int:
     check_suffix(args.preview, ".png", "preview")
     check_suffix(args.forces, ".csv", "forces output")
     strokes = read_strokes(args.strokes)
-    result = replay_with_progress(strokes, args.scene)
+    result = replay_with_progress(strokes, args.scene, args.fidelity, args.device)
+    if args.explain:
+        print_explanation(result, args.fidelity)
     write_canvas_outputs(result.canvas, args.out, args.preview, lit=not args.flat, half=args.half)
     if args.forces is not None:
         write_forces_csv(args.forces, result.forces)

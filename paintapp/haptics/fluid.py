@@ -60,7 +60,8 @@ class FluidForceInput:
 
     Args:
         channel: where the simulation publishes.
-        filt: the reconstruction filter (dimension 6: force then torque).
+        filt: the reconstruction filter (dimension 6: force then torque; dimension 3: force
+            only, for a device without torque output -- the torque is then always zero).
         config: scale, watchdog and spike parameters.
         max_force_n: the device's force limit (for the default spike limit).
     """
@@ -96,6 +97,8 @@ class FluidForceInput:
             return
         self._seen_seq = seq
         value = np.concatenate([sample.force, sample.torque])
+        if self.filter.dim == 3:
+            value = value[:3]
         if not np.all(np.isfinite(value)):
             self.rejected_nonfinite += 1
             return
@@ -126,7 +129,8 @@ class FluidForceInput:
         self._update_gain(t_s, dt_s)
         out = self.filter.output(t_s)
         g = self.gain
-        return (g * self.config.force_scale) * out[:3], (g * self.torque_scale) * out[3:]
+        torque = (g * self.torque_scale) * out[3:] if len(out) > 3 else np.zeros(3)
+        return (g * self.config.force_scale) * out[:3], torque
 
     def counters(self) -> dict[str, int]:
         """Event counts since construction."""

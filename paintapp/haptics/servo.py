@@ -120,8 +120,10 @@ class ServoLoop:
         cfg = self.config
         self.safety = ForceSafety(info, cfg.safety)
         self.contact = CanvasContact(info, cfg.contact)
+        # no torque output: filter the force alone (no torque work in the loop)
+        dim = 6 if info.has_torque else 3
         self.fluid = FluidForceInput(
-            self.forces, cfg.filter.build(cfg.tick_s, 6), cfg.fluid, info.max_force_n
+            self.forces, cfg.filter.build(cfg.tick_s, dim), cfg.fluid, info.max_force_n
         )
         self.velocity = VelocityEstimator(cfg.velocity_tau_s)
         self._has_force = info.has_force

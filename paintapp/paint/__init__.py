@@ -5,7 +5,10 @@ Which model runs is the painting scene's choice (:class:`PaintScene.fluid_model`
 - ``grid3d``: a 3D viscous-fluid grid over the footprint (:mod:`paintapp.paint.grid3d`);
 - ``depth_averaged``: a 2D grid in the canvas plane for thin paint
   (:mod:`paintapp.paint.depth_averaged`);
-- ``none``: no fluid, the brush stamps and soaks (:mod:`paintapp.paint.stamp`).
+- ``none``: no fluid, the brush stamps and soaks (:mod:`paintapp.paint.stamp`);
+- ``auto``: ``depth_averaged`` or ``grid3d`` by the paint layer's thickness, chosen per sample by
+  :class:`~paintapp.paint.selector.ModelSelector` (:mod:`paintapp.paint.choice` states the rules,
+  :mod:`paintapp.paint.fit` the grid sizing, :mod:`paintapp.paint.fidelity` the presets).
 """
 
 from brushes import BrushPreset
@@ -31,8 +34,10 @@ MODELS: dict[str, type[PaintModel]] = {
 
 
 def make_paint_model(scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> PaintModel:
-    """The paint model the scene asks for, for this canvas and brush."""
-    return MODELS[scene.fluid_model](scene, canvas, preset)
+    """The paint model the scene asks for, for this canvas and brush (``auto``: the 3D grid it
+    starts from; the session's selector switches as the paint requires)."""
+    kind = "grid3d" if scene.fluid_model == "auto" else scene.fluid_model
+    return MODELS[kind](scene, canvas, preset)
 
 
 __all__ = [

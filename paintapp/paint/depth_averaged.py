@@ -38,6 +38,7 @@ from paintapp.paint.exchange import (
     exchange_with_brush,
 )
 from paintapp.paint.model import (
+    ForceNeeds,
     PaintModel,
     PaintStep,
     PhaseTimer,
@@ -84,12 +85,35 @@ def padded_faces(
 
 
 class PaintGridDepthAveraged(PaintModel):
-    """The depth-averaged 2D paint grid (see the module docstring)."""
+    """The depth-averaged 2D paint grid (see the module docstring).
+
+    Args:
+        scene, canvas, preset: as :class:`PaintModel`.
+        cells: (nx, ny, nz) of which (nx, ny) are used, at most ``scene.cells`` (default:
+            ``scene.cells``); the cell size is always the one ``scene.cells`` gives.
+        needs: which outputs are read.
+    """
 
     name = "depth_averaged"
 
-    def __init__(self, scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> None:
-        super().__init__(scene, canvas, preset, (scene.cells[0] + 2, scene.cells[1] + 2))
+    def __init__(
+        self,
+        scene: PaintScene,
+        canvas: Canvas,
+        preset: BrushPreset,
+        *,
+        cells: tuple[int, int, int] | None = None,
+        needs: ForceNeeds | None = None,
+    ) -> None:
+        self.cells = cells or scene.cells
+        super().__init__(
+            scene,
+            canvas,
+            preset,
+            (self.cells[0] + 2, self.cells[1] + 2),
+            reference_cells=scene.cells[0] + 2,
+            needs=needs,
+        )
         self.sim: VariableViscositySimulation | None = None
         self.probe: Probe | None = None
 
@@ -99,7 +123,7 @@ class PaintGridDepthAveraged(PaintModel):
     def _reset(self, pose: TipPose) -> None:
         s, h = self.scene, self.cell_size_m
         ox, oy = self.window.origin_m
-        grid = Grid(2, (s.cells[0], s.cells[1], 1), h, (ox + h, oy + h, 0.0))
+        grid = Grid(2, (self.cells[0], self.cells[1], 1), h, (ox + h, oy + h, 0.0))
         self.probe = Probe(
             PROBE, self._shape(pose), 2, pose.position_m[:2], yaw_angle(pose.orientation)
         )
@@ -108,7 +132,7 @@ class PaintGridDepthAveraged(PaintModel):
             Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
             DomainBoundary(grid, dict(SIDES)),
             [self.probe],
-            s.solver,
+            self.solver_settings(),
         )
 
     def _shifted(self, di: int, dj: int) -> None:
@@ -127,7 +151,9 @@ class PaintGridDepthAveraged(PaintModel):
         assert self.sim is not None and self.probe is not None
         clock = PhaseTimer()
         sim, probe, h = self.sim, self.probe, self.cell_size_m
-        q = self.wet_columns()[..., None]
+        all_columns = self.wet_columns()
+        used = self.used_channels(all_columns, reservoir)
+        q = all_columns[used][..., None]
         before = q.copy()
         inner = q[:, 1:-1, 1:-1]
         on_canvas = self.window.on_canvas()
@@ -142,7 +168,8 @@ class PaintGridDepthAveraged(PaintModel):
         try:
             sim.step(dt_s)
             clock.mark("solver")
-            report = self._exchange(inner, pose, dt_s, reservoir)
+            names = [self.canvas.pigment_names[p] for p in used]
+            report = self._exchange(inner, pose, dt_s, reservoir, names)
             clock.mark("exchange")
             comps, types = padded_faces(sim.state.comps, sim.state.face_types, on_canvas)
             substeps = transport(q, comps, types, 2, h, dt_s)
@@ -150,22 +177,37 @@ class PaintGridDepthAveraged(PaintModel):
         except FloatingPointError:
             self._reset(pose)
             return PaintStep(step_ms=clock.total_ms)
-        self.window.write_back(self.canvas, (q - before)[..., 0])
+        delta = np.zeros_like(all_columns)
+        delta[used] = (q - before)[..., 0]
+        self.window.write_back(self.canvas, delta)
         clock.mark("write")
-        f, depth = sim.forces[PROBE], self.scene.max_height_m
+        force, torque = self._tip_force()
+        return PaintStep(
+            force, torque, 1, substeps, report, clock.total_ms, clock.ms, channels=len(used)
+        )
+
+    def _tip_force(self) -> tuple[np.ndarray, ...]:
+        """Force (N) and torque (N m) on the tip: the per-depth 2D values times ``H_ref``."""
+        assert self.sim is not None
+        f, depth = self.sim.forces.get(PROBE), self.scene.max_height_m
+        if f is None:
+            return np.zeros(3), np.zeros(3)
         force = np.array([f.force[0] * depth, f.force[1] * depth, 0.0])
-        torque = np.array([0.0, 0.0, float(f.torque) * depth])
-        return PaintStep(force, torque, 1, substeps, report, clock.total_ms, clock.ms)
+        return self.tip_output(force, np.array([0.0, 0.0, float(f.torque) * depth]))
 
     def _exchange(
-        self, q: np.ndarray, pose: TipPose, dt_s: float, reservoir: PaintReservoir
+        self,
+        q: np.ndarray,
+        pose: TipPose,
+        dt_s: float,
+        reservoir: PaintReservoir,
+        names: list[str],
     ) -> ExchangeReport:
         assert self.sim is not None and self.probe is not None
         s, h = self.scene, self.cell_size_m
         space = CellSpace(unit=h * h, capacity=s.max_height_m, deposit_k_max=0)
         speed = float(np.hypot(*self.probe.velocity_m_s))
         offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, s.deposit_length_m)
-        names = self.canvas.pigment_names
         return exchange_with_brush(
             q, self.sim.state.label, reservoir, names, space, s.pickup_fraction, offer
         )

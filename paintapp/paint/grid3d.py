@@ -1,6 +1,6 @@
 """The 3D paint grid: a viscous-fluid box over the brush footprint that rides with the tip.
 
-Geometry: ``scene.cells`` cubes of edge ``h`` (a whole number of canvas texels, the grid spanning
+Geometry: ``scene.cells`` (or fewer, ``cells``: a grid fitted to the brush) cubes of edge ``h`` (a whole number of canvas texels, the grid spanning
 ``scene.span`` brush widths); the bottom face is the canvas plane ``z = 0``. Sides: the canvas
 (``z_min``) is a no-slip wall; the four lateral sides are free-slip walls (the paint around the
 window is at rest); the top (``z_max``) is open (zero pressure), so the tip can push down into the
@@ -29,7 +29,7 @@ from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from paintapp.canvas import Canvas
 from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, exchange_with_brush
 from paintapp.paint.kernels import fill_columns
-from paintapp.paint.model import PaintModel, PaintStep, PhaseTimer
+from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.scene import PaintScene
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
@@ -55,18 +55,41 @@ def pressed_centre(pose: TipPose, centre_m: np.ndarray) -> np.ndarray:
 
 
 class PaintGrid3D(PaintModel):
-    """The 3D paint grid (see the module docstring)."""
+    """The 3D paint grid (see the module docstring).
+
+    Args:
+        scene, canvas, preset: as :class:`PaintModel`.
+        cells: (nx, ny, nz) cells, at most ``scene.cells`` (default: ``scene.cells``); the cell
+            size is always the one ``scene.cells`` gives.
+        needs: which outputs are read.
+    """
 
     name = "grid3d"
 
-    def __init__(self, scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> None:
-        super().__init__(scene, canvas, preset, (scene.cells[0], scene.cells[1]))
+    def __init__(
+        self,
+        scene: PaintScene,
+        canvas: Canvas,
+        preset: BrushPreset,
+        *,
+        cells: tuple[int, int, int] | None = None,
+        needs: ForceNeeds | None = None,
+    ) -> None:
+        self.cells = cells or scene.cells
+        super().__init__(
+            scene,
+            canvas,
+            preset,
+            (self.cells[0], self.cells[1]),
+            reference_cells=scene.cells[0],
+            needs=needs,
+        )
         self.sim: VariableViscositySimulation | None = None
         self.probe: Probe | None = None
 
     def _grid(self) -> Grid:
         ox, oy = self.window.origin_m
-        return Grid(3, self.scene.cells, self.cell_size_m, (ox, oy, 0.0))
+        return Grid(3, self.cells, self.cell_size_m, (ox, oy, 0.0))
 
     def _reset(self, pose: TipPose) -> None:
         s = self.scene
@@ -81,7 +104,7 @@ class PaintGrid3D(PaintModel):
             Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
             DomainBoundary(grid, dict(SIDES)),
             [probe],
-            s.solver,
+            self.solver_settings(),
         )
 
     def _shifted(self, di: int, dj: int) -> None:
@@ -100,8 +123,10 @@ class PaintGrid3D(PaintModel):
         assert self.sim is not None and self.probe is not None
         clock = PhaseTimer()
         sim, probe, h = self.sim, self.probe, self.cell_size_m
-        columns = self.wet_columns()
-        q = np.zeros((columns.shape[0], *self.scene.cells))
+        all_columns = self.wet_columns()
+        used = self.used_channels(all_columns, reservoir)
+        columns = all_columns[used]
+        q = np.zeros((len(used), *self.cells))
         fill_columns(columns, h, q)
         before = q.copy()
         sim.static_solid[:] = ~self.window.on_canvas()[:, :, None]
@@ -112,28 +137,42 @@ class PaintGrid3D(PaintModel):
         try:
             sim.step(dt_s)
             clock.mark("solver")
-            report = self._exchange(q, pose, dt_s, reservoir)
+            names = [self.canvas.pigment_names[p] for p in used]
+            report = self._exchange(q, pose, dt_s, reservoir, names)
             clock.mark("exchange")
             substeps = transport(q, sim.state.comps, sim.state.face_types, 3, h, dt_s)
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
             return PaintStep(step_ms=clock.total_ms)
-        self.window.write_back(self.canvas, (q - before).sum(axis=3) * h)
+        delta = np.zeros_like(all_columns)
+        delta[used] = (q - before).sum(axis=3) * h
+        self.window.write_back(self.canvas, delta)
         clock.mark("write")
-        force = sim.forces[PROBE]
+        found = sim.forces.get(PROBE)
+        force, torque = (
+            (np.zeros(3), np.zeros(3))
+            if found is None
+            else self.tip_output(found.force, found.torque)
+        )
         return PaintStep(
-            force_n=np.asarray(force.force, dtype=float).copy(),
-            torque_nm=np.asarray(force.torque, dtype=float).copy(),
+            force_n=force,
+            torque_nm=torque,
             solver_steps=1,
             transport_substeps=substeps,
             exchange=report,
             step_ms=clock.total_ms,
             phase_ms=clock.ms,
+            channels=len(used),
         )
 
     def _exchange(
-        self, q: np.ndarray, pose: TipPose, dt_s: float, reservoir: PaintReservoir
+        self,
+        q: np.ndarray,
+        pose: TipPose,
+        dt_s: float,
+        reservoir: PaintReservoir,
+        names: list[str],
     ) -> ExchangeReport:
         assert self.sim is not None and self.probe is not None
         label = self.sim.state.label
@@ -148,7 +187,7 @@ class PaintGrid3D(PaintModel):
             q,
             label,
             reservoir,
-            self.canvas.pigment_names,
+            names,
             space,
             self.scene.pickup_fraction,
             offer,

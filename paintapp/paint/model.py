@@ -9,6 +9,13 @@ grid itself keeps no paint between steps, only its fluid velocity.
 
 Gaps between poses longer than ``scene.max_step_s`` are split into equal sub-steps along the
 straight line between the poses.
+
+A model builds no more than is read: :class:`ForceNeeds` says whether anyone reads the force
+(without, the solver does no force work) and the torque (without, none is published); with
+``scene.choose.used_pigments`` only the pigment channels in the window or in the brush are carried
+through the grid (the others are all zero and stay so); and a model may be built with fewer
+columns than ``scene.cells`` (``cells_xy`` below ``reference_cells``: the same cell size over a
+smaller footprint, :mod:`paintapp.paint.fit`).
 """
 
 from __future__ import annotations
@@ -16,7 +23,7 @@ from __future__ import annotations
 import math
 import time
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -25,6 +32,7 @@ from paintapp.canvas import Canvas
 from paintapp.paint.exchange import ExchangeReport
 from paintapp.paint.scene import PaintScene
 from paintapp.paint.window import ColumnWindow, cell_texels, square_texel_m
+from solver.simulation import SolverSettings
 
 
 def brush_width_m(preset: BrushPreset) -> float:
@@ -36,6 +44,20 @@ def brush_width_m(preset: BrushPreset) -> float:
         d[axis] = 1.0
         widths.append(tip.support(d) + tip.support(-d))
     return float(max(widths))
+
+
+@dataclass(frozen=True)
+class ForceNeeds:
+    """What reads a paint model's output: the force (N) and the torque (N m) on the tip."""
+
+    force: bool = True
+    torque: bool = True
+
+    def describe(self) -> str:
+        """``force and torque``, ``force only`` or ``nothing``."""
+        if not self.force:
+            return "nothing"
+        return "force and torque" if self.torque else "force only"
 
 
 @dataclass(frozen=True)
@@ -51,6 +73,7 @@ class PaintStep:
         step_ms: wall time of the step, ms.
         phase_ms: wall time by phase (``read``: canvas to grid, ``solver``, ``exchange``,
             ``transport``, ``write``: grid to canvas), ms.
+        channels: pigment channels carried through the grid (the most over the sub-steps).
     """
 
     force_n: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -60,6 +83,7 @@ class PaintStep:
     exchange: ExchangeReport = field(default_factory=ExchangeReport)
     step_ms: float = 0.0
     phase_ms: dict[str, float] = field(default_factory=dict)
+    channels: int = 0
 
 
 class PhaseTimer:
@@ -94,19 +118,54 @@ class PaintModel(ABC):
         canvas: the canvas painted on (square texels).
         preset: the brush.
         cells_xy: lateral cells of the model's grid.
+        reference_cells: lateral cells that set the cell size (``span`` brush widths over this
+            many cells); default ``cells_xy[0]``. A fitted grid passes its full size here.
+        needs: which outputs are read (default: force and torque).
     """
 
     name = "model"
 
     def __init__(
-        self, scene: PaintScene, canvas: Canvas, preset: BrushPreset, cells_xy: tuple[int, int]
+        self,
+        scene: PaintScene,
+        canvas: Canvas,
+        preset: BrushPreset,
+        cells_xy: tuple[int, int],
+        *,
+        reference_cells: int | None = None,
+        needs: ForceNeeds | None = None,
     ) -> None:
         self.scene = scene
         self.canvas = canvas
         self.preset = preset
-        k = cell_texels(brush_width_m(preset), square_texel_m(canvas), cells_xy[0], scene.span)
+        self.needs = needs or ForceNeeds()
+        ref = reference_cells or cells_xy[0]
+        k = cell_texels(brush_width_m(preset), square_texel_m(canvas), ref, scene.span)
         self.window = ColumnWindow(canvas, cells_xy, k)
+        self.margin_cells = scaled_margin(scene.margin_cells, ref, cells_xy)
         self.pose: TipPose | None = None
+
+    def solver_settings(self) -> SolverSettings:
+        """The scene's solver settings, with no force work when nothing reads the force."""
+        if self.needs.force:
+            return self.scene.solver
+        return replace(self.scene.solver, probe_forces=False)
+
+    def used_channels(self, columns: np.ndarray, reservoir: PaintReservoir) -> np.ndarray:
+        """Indices of the pigment channels to carry: those with wet paint in ``columns``
+        (P, nx, ny) or in the brush (all of them unless ``scene.choose.used_pigments``)."""
+        names = self.canvas.pigment_names
+        if not self.scene.choose.used_pigments:
+            return np.arange(len(names))
+        held = reservoir.volumes_m3
+        used = [p for p, n in enumerate(names) if held.get(n, 0.0) > 0.0 or columns[p].any()]
+        return np.array(used, dtype=np.intp)
+
+    def tip_output(self, force_n: np.ndarray, torque_nm: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Force and torque as published: zero where nothing reads them."""
+        force = np.asarray(force_n, dtype=float).copy() if self.needs.force else np.zeros(3)
+        keep = self.needs.force and self.needs.torque
+        return force, np.asarray(torque_nm, dtype=float).copy() if keep else np.zeros(3)
 
     @property
     def cell_size_m(self) -> float:
@@ -147,6 +206,7 @@ class PaintModel(ABC):
             transport_substeps=total.transport_substeps + part.transport_substeps,
             exchange=add_reports(total.exchange, part.exchange),
             step_ms=total.step_ms + part.step_ms,
+            channels=max(total.channels, part.channels),
             phase_ms={
                 k: total.phase_ms.get(k, 0.0) + part.phase_ms.get(k, 0.0)
                 for k in {**total.phase_ms, **part.phase_ms}
@@ -155,9 +215,9 @@ class PaintModel(ABC):
 
     def follow(self, centre_m: np.ndarray) -> tuple[int, int]:
         """Re-centre the window (and the fluid state) by whole cells if the tip at ``centre_m``
-        is within ``scene.margin_cells`` of a side; returns the shift (di, dj) in cells."""
+        is within ``margin_cells`` (the scene's, scaled to a fitted grid) of a side; returns the shift (di, dj) in cells."""
         di, dj = self.window.recentre_offset(
-            float(centre_m[0]), float(centre_m[1]), self.scene.margin_cells
+            float(centre_m[0]), float(centre_m[1]), self.margin_cells
         )
         if di or dj:
             self.window.shift(di, dj)
@@ -181,6 +241,15 @@ class PaintModel(ABC):
         self, pose: TipPose, centre_m: np.ndarray, dt_s: float, reservoir: PaintReservoir
     ) -> PaintStep:
         """One step to ``pose`` with the apex at ``centre_m`` (m, canvas frame)."""
+
+
+def scaled_margin(margin: int, reference_cells: int, cells_xy: tuple[int, int]) -> int:
+    """The re-centring margin (cells) of a grid of ``cells_xy`` columns: the scene's ``margin``
+    on a full grid; on a smaller one, in proportion to ``reference_cells`` and under half of it."""
+    if cells_xy[0] >= reference_cells:
+        return margin
+    scaled = round(margin * cells_xy[0] / reference_cells)
+    return max(0, min(scaled, (min(cells_xy) - 1) // 2))
 
 
 def section_height_m(pose: TipPose, cell_m: float) -> float:

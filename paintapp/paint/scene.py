@@ -5,7 +5,7 @@
 A scene file::
 
     description = "Oil paint, full 3D paint grid"
-    fluid_model = "grid3d"          # grid3d | depth_averaged | none
+    fluid_model = "grid3d"          # grid3d | depth_averaged | none | auto
 
     [grid]
     cells = [32, 32, 12]            # 3D cells; depth_averaged uses the first two
@@ -28,6 +28,13 @@ A scene file::
     pressure_tolerance = 1e-5
     viscosity_tolerance = 1e-6
     max_iterations = 400
+
+    [choose]                        # optional: what the app may leave out (paintapp.paint.choice)
+    thin_below_m = 2e-4             # auto: depth-averaged while the paint layer is thinner...
+    thick_above_m = 3e-4            # ...and the 3D grid again once it is thicker (hysteresis)
+    dry_brush = true                # no fluid for an empty brush over dry canvas
+    fit_grid = false                # size the grid to the brush's footprint, not [grid] cells
+    used_pigments = true            # carry only the pigments in use through the grid
 """
 
 from __future__ import annotations
@@ -41,9 +48,45 @@ from solver.errors import InputError
 from solver.schema import Table
 from solver.simulation import SolverSettings
 
+#: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
+#: What a scene's ``fluid_model`` may say: a model, or ``auto`` (chosen per sample).
+SCENE_FLUID_MODELS = (*FLUID_MODELS, "auto")
 DEFAULT_SCENE = "default"
 MAX_CELLS = 200_000
+
+
+@dataclass(frozen=True)
+class ModelChoice:
+    """What the app may leave out of the model (see :mod:`paintapp.paint.choice`).
+
+    Attributes:
+        thin_below_m: ``fluid_model = "auto"``: the depth-averaged grid runs while the wet paint
+            layer under the brush is thinner than this (m)...
+        thick_above_m: ...and the 3D grid again once it is thicker than this (m, >= thin).
+        dry_brush: an empty brush over a window with no wet paint takes no fluid steps.
+        fit_grid: size the grid to the brush's footprint (fewer cells than ``cells``, same
+            cell size) instead of always using ``cells``.
+        used_pigments: move only the pigment channels in use (in the window or the brush).
+    """
+
+    thin_below_m: float = 2e-4
+    thick_above_m: float = 3e-4
+    dry_brush: bool = True
+    fit_grid: bool = False
+    used_pigments: bool = True
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.thin_below_m <= self.thick_above_m:
+            raise InputError(
+                "expected 0 <= thin_below_m <= thick_above_m, got "
+                f"{self.thin_below_m:g} and {self.thick_above_m:g}",
+                key="choose",
+            )
+
+
+#: Everything modelled everywhere: no choice left to the app (the baseline of the savings).
+FULL_MODEL = ModelChoice(dry_brush=False, fit_grid=False, used_pigments=False)
 
 
 @dataclass(frozen=True)
@@ -53,8 +96,9 @@ class PaintScene:
     Attributes:
         name: the scene's name (file stem).
         fluid_model: ``"grid3d"`` (3D paint grid riding with the tip), ``"depth_averaged"``
-            (2D grid in the canvas plane, paper section 5.2) or ``"none"`` (no fluid: the brush
-            stamps and soaks paint directly, and feels no fluid force).
+            (2D grid in the canvas plane, paper section 5.2), ``"none"`` (no fluid: the brush
+            stamps and soaks paint directly, and feels no fluid force) or ``"auto"`` (grid3d or
+            depth_averaged by the paint layer's thickness, see ``choose``).
         cells: (nx, ny, nz) cells of the 3D grid; the depth-averaged grid uses (nx, ny).
         span: lateral grid extent in brush widths; with the canvas texel size it sets the cell
             size (a whole number of texels, see :func:`paintapp.paint.window.cell_texels`).
@@ -69,6 +113,7 @@ class PaintScene:
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
         solver: solver settings.
         description: free text.
+        choose: what the app may leave out (:class:`ModelChoice`).
     """
 
     name: str = DEFAULT_SCENE
@@ -90,15 +135,16 @@ class PaintScene:
         )
     )
     description: str = ""
+    choose: ModelChoice = field(default_factory=ModelChoice)
 
     def __post_init__(self) -> None:
-        if self.fluid_model not in FLUID_MODELS:
+        if self.fluid_model not in SCENE_FLUID_MODELS:
             raise InputError(
-                f"expected one of {', '.join(FLUID_MODELS)}, got {self.fluid_model!r}",
+                f"expected one of {', '.join(SCENE_FLUID_MODELS)}, got {self.fluid_model!r}",
                 key="fluid_model",
             )
         nx, ny, nz = self.cells
-        too_flat = self.fluid_model == "grid3d" and nz < 3
+        too_flat = self.fluid_model in ("grid3d", "auto") and nz < 3
         if min(nx, ny) < 8 or too_flat or nx * ny * nz > MAX_CELLS:
             raise InputError(
                 f"expected at least 8x8 (3D: 8x8x3) and at most {MAX_CELLS} cells, got {self.cells}",
@@ -117,9 +163,10 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
     """Validate a parsed scene table; :class:`InputError` names the file and key."""
     top = Table(data, source, "")
     description = top.string("description", "")
-    model = top.string("fluid_model", "grid3d", choices=FLUID_MODELS)
+    model = top.string("fluid_model", "grid3d", choices=SCENE_FLUID_MODELS)
     grid, paint = top.table("grid", {}), top.table("paint", {})
     brush, solver = top.table("brush", {}), top.table("solver", {})
+    choose = top.table("choose", {})
     cells = grid.raw("cells", [32, 32, 12])
     if not (
         isinstance(cells, list) and len(cells) == 3 and all(type(c) is int and c > 0 for c in cells)
@@ -147,10 +194,33 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
             max_iterations=solver.integer("max_iterations", 400, minimum=1),
         ),
         description=description,
+        choose=parse_choice(choose),
     )
-    for table in (grid, paint, brush, solver, top):
+    for table in (grid, paint, brush, solver, choose, top):
         table.finish()
     return scene
+
+
+def _flag(table: Table, name: str, default: bool) -> bool:
+    value = table.raw(name, default)
+    if not isinstance(value, bool):
+        raise table.error(name, f"expected true or false, got {value!r}")
+    return value
+
+
+def parse_choice(table: Table) -> ModelChoice:
+    """The scene's ``[choose]`` table (every key optional)."""
+    thin = table.number("thin_below_m", 2e-4, minimum=0.0, maximum=0.05)
+    thick = table.number("thick_above_m", max(thin, 3e-4), minimum=0.0, maximum=0.05)
+    if thick < thin:
+        raise table.error("thick_above_m", f"expected >= thin_below_m ({thin:g}), got {thick:g}")
+    return ModelChoice(
+        thin_below_m=thin,
+        thick_above_m=thick,
+        dry_brush=_flag(table, "dry_brush", True),
+        fit_grid=_flag(table, "fit_grid", False),
+        used_pigments=_flag(table, "used_pigments", True),
+    )
 
 
 def load_paint_scene_file(path: str | Path) -> PaintScene:

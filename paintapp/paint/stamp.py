@@ -17,7 +17,7 @@ from brushes.probe import voxelize
 from brushes.rotation import yaw_angle
 from paintapp.canvas import Canvas
 from paintapp.paint.exchange import ExchangeReport, deposit_volume
-from paintapp.paint.model import PaintModel, PaintStep, section_height_m
+from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, section_height_m
 from paintapp.paint.scene import PaintScene
 
 
@@ -26,8 +26,24 @@ class StampModel(PaintModel):
 
     name = "none"
 
-    def __init__(self, scene: PaintScene, canvas: Canvas, preset: BrushPreset) -> None:
-        super().__init__(scene, canvas, preset, (scene.cells[0], scene.cells[1]))
+    def __init__(
+        self,
+        scene: PaintScene,
+        canvas: Canvas,
+        preset: BrushPreset,
+        *,
+        cells: tuple[int, int, int] | None = None,
+        needs: ForceNeeds | None = None,
+    ) -> None:
+        self.cells = cells or scene.cells
+        super().__init__(
+            scene,
+            canvas,
+            preset,
+            (self.cells[0], self.cells[1]),
+            reference_cells=scene.cells[0],
+            needs=needs,
+        )
         self._last_xy = np.zeros(2)
 
     def _reset(self, pose: TipPose) -> None:
