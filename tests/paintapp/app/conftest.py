@@ -55,11 +55,24 @@ def xvfb_display() -> Iterator[str]:
             proc.kill()
 
 
+def _warm_up_kernels() -> None:
+    """Compile the painting kernels before any window opens. The window's simulation worker uses
+    only the newest input, so a first step that spends many seconds compiling (a fresh checkout
+    has no kernel cache) would skip most of a test stroke."""
+    from pathlib import Path
+
+    from paintapp.replay import replay
+    from paintapp.strokes import read_strokes
+
+    replay(read_strokes(Path(__file__).resolve().parents[1] / "golden" / "grid3d_drag.jsonl"))
+
+
 @pytest.fixture(scope="session")
 def qapp(xvfb_display: str):
     """The QApplication (one per process), on the private display."""
     from paintapp.app.launch import qt_application
 
+    _warm_up_kernels()
     return qt_application()
 
 
