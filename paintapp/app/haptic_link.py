@@ -185,10 +185,7 @@ class HapticLink:
         once per tick)."""
         if not (math.isfinite(scale) and 0.0 <= scale <= 20.0):
             raise InputError(f"expected a force scale in [0, 20], got {scale}", key="force_scale")
-        fluid = getattr(self.loop, "fluid", None)
-        if fluid is not None:
-            fluid.config = replace(fluid.config, force_scale=scale, torque_scale=None)
-            fluid.torque_scale = scale
+        self.loop.set_force_scale(scale)
 
 
 def sample_from_state(state: DeviceState, t_s: float) -> StylusSample | None:

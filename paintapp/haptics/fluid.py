@@ -15,7 +15,7 @@ resume the gain fades back in over the same time.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -122,6 +122,15 @@ class FluidForceInput:
             if self.gain == 0.0:
                 self.watchdog_trips += 1
                 self.filter.reset()
+
+    def set_scale(self, force_scale: float, torque_scale: float | None = None) -> None:
+        """Change the user's force scale (and torque scale; None: the same) while running.
+
+        Two attribute swaps; the loop reads them once per tick. Raises InputError for a
+        non-finite or negative scale.
+        """
+        self.config = replace(self.config, force_scale=force_scale, torque_scale=torque_scale)
+        self.torque_scale = force_scale if torque_scale is None else torque_scale
 
     def update(self, t_s: float, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Fluid force (N, (3,)) and torque (N m, (3,)) for the tick at ``t_s`` of length ``dt_s``."""

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -148,6 +148,16 @@ class ServoLoop:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    def set_force_scale(self, force_scale: float, torque_scale: float | None = None) -> None:
+        """Change the user-set force scale while the loop runs (from any thread)."""
+        self.config = replace(
+            self.config,
+            fluid=replace(self.config.fluid, force_scale=force_scale, torque_scale=torque_scale),
+        )
+        fluid = getattr(self, "fluid", None)
+        if fluid is not None:
+            fluid.set_scale(force_scale, torque_scale)
 
     def _fail(self, exc: Exception) -> bool:
         self.device_fault = f"{type(exc).__name__}: {exc}"

@@ -8,6 +8,7 @@ import pytest
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.filters import make_filter
 from paintapp.haptics.fluid import FluidConfig, FluidForceInput
+from solver.errors import InputError
 
 DT = 1e-3
 
@@ -80,3 +81,17 @@ def test_zero_scale_turns_the_fluid_off() -> None:
     ch, fluid = make(scale=0.0)
     ch.publish_force(0.0, [1.0, 1.0, 1.0])
     assert np.all(run(fluid, 0.0, 50) == 0.0)
+
+
+def test_force_scale_changes_while_running_and_refuses_bad_values() -> None:
+    ch, fluid = make(scale=3.0)
+    ch.publish_force(0.0, [0.1, 0.0, 0.0], [0.0, 0.0, 0.01])
+    run(fluid, 0.0, 40)
+    fluid.set_scale(5.0)
+    force, torque = fluid.update(0.04, DT)
+    assert force[0] == pytest.approx(0.5)
+    assert torque[2] == pytest.approx(0.05)
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(InputError):
+            fluid.set_scale(bad)
+    assert fluid.update(0.041, DT)[0][0] == pytest.approx(0.5)  # unchanged by refused values

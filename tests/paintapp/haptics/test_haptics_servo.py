@@ -166,3 +166,23 @@ def test_an_unexpected_driver_error_also_stops_the_loop_with_zero_force() -> Non
     report = loop.run(clock, 0.1)
     assert report.stopped_by == "device fault" and "ValueError" in report.device_fault
     assert np.all(dev.writes[-1][0] == 0) and report.ticks == 100
+
+
+def test_force_scale_can_change_while_the_loop_runs() -> None:
+    clock = VirtualClock()
+    dev = ScriptedDevice(clock, SIMULATED_INFO, z_m=0.01)  # above the canvas: fluid force only
+    loop = ServoLoop(dev, config=fast_engage(scale=2.0))
+    run_publishing(loop, clock, 0.3, [0.1, 0.0, 0.0], [0.0, 0.0, 0.01])
+    np.testing.assert_allclose(dev.writes[-1][0], [0.2, 0.0, 0.0], rtol=1e-9)
+    loop.set_force_scale(5.0)
+    assert loop.config.fluid.force_scale == 5.0
+
+    def tick(i: int, t: float) -> bool:
+        if i % 10 == 0:
+            loop.forces.publish_force(t, [0.1, 0.0, 0.0], [0.0, 0.0, 0.01])
+        return loop.tick(t)
+
+    clock.run(tick, 300)
+    force, torque = dev.writes[-1]
+    np.testing.assert_allclose(force, [0.5, 0.0, 0.0], rtol=1e-9)
+    np.testing.assert_allclose(torque, [0.0, 0.0, 0.05], rtol=1e-9)
