@@ -4,7 +4,7 @@ Painting step: a loaded small round brush drags across a canvas already covered 
 of four pigments, through each painting scene's model, on canvases of 1024 and 4096 pixels (the
 canvas size sets the cell size in texels, so the transfer's cost); median over the steps after a
 warm-up, with the phases (read: canvas to grid; solver; exchange with the brush; transport;
-write: grid to canvas). Canvas render: :func:`paintapp.render.benchmark.time_render` (Mesa
+write: grid to canvas). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
 llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files).
 
     python benchmarks/bench_painting.py [--steps N] [--demo-runs N] [--sizes 1024 4096]
@@ -16,17 +16,21 @@ import argparse
 import statistics
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
-from paintapp.canvas import Canvas
-from paintapp.demo_strokes import StrokeSpec, stroke_samples
+from paintapp.canvas.model import Canvas
 from paintapp.paint import load_paint_scene
-from paintapp.replay import replay
 from paintapp.resources import asset_path
-from paintapp.session import PaintingSession
-from paintapp.strokes import read_strokes
+from paintapp.session.painting import PaintingSession
+from paintapp.session.playback import replay
+from paintapp.strokes.files import read_strokes
+
+# the synthetic stroke generator is test tooling (tests/support), beside this script's folder
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "cadmium_red", "titanium_white")
 SCENES = ("default", "thin_glaze", "no_fluid")
@@ -68,7 +72,7 @@ def bench_step(scene_name: str, pixels: int, steps: int) -> dict[str, float]:
 def bench_render(pixels: int, repeats: int) -> dict[str, float] | None:
     """Render timings (ms) from the renderer's own benchmark, or None without OpenGL."""
     try:
-        from paintapp.render.benchmark import time_render
+        from paintapp.bench.render_timing import time_render
 
         t = time_render(pixels, repeats)
     except Exception as exc:  # no EGL context here: report and go on

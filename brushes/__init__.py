@@ -12,8 +12,8 @@ from brushes.presets import (
 )
 from brushes.probe import ProbeMotion, probe_motion, probe_motion_2d, voxelize
 from brushes.reservoir import PaintReservoir
-from brushes.shapes import Disc, Rect, RoundCone, RoundedBox, Section, Shape, Splayed, TipShape
 from brushes.stylus import StylusSample
+from brushes.tips import Disc, Rect, RoundCone, RoundedBox, Section, Shape, Splayed, TipShape
 
 __all__ = [
     "INPUT_KINDS",

@@ -21,7 +21,9 @@ from typing import Literal
 import numpy as np
 
 from brushes.presets import BrushPreset, TiltResponse
-from brushes.rotation import (
+from brushes.stylus import StylusSample
+from brushes.tips import lowest_point_z
+from common.tilt import (
     angular_velocity,
     axis_from_tilt,
     quat_from_axis_angle,
@@ -29,8 +31,6 @@ from brushes.rotation import (
     quat_to_matrix,
     quat_z_to,
 )
-from brushes.shapes import lowest_point_z
-from brushes.stylus import StylusSample
 
 InputKind = Literal["tablet", "haptic"]
 INPUT_KINDS: tuple[str, ...] = ("tablet", "haptic")

@@ -33,9 +33,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from brushes import _checks as ck
-from brushes.shapes import RoundCone, RoundedBox, Splayed, TipShape
-from solver.errors import InputError
+from brushes.tips import RoundCone, RoundedBox, Splayed, TipShape
+from common.errors import InputError
+from common.names import check_preset_name, is_preset_name
+from common.tables import Table
 
 SHAPES = ("round", "flat", "box")
 SIZE_KEYS: dict[str, tuple[str, ...]] = {
@@ -130,53 +131,48 @@ class BrushPreset:
         cls, data: Mapping[str, Any], name: str, source: str | None = None
     ) -> BrushPreset:
         """Validate a parsed preset table; raises :class:`InputError` naming ``source`` and key."""
-        ck.check_keys(
-            data,
-            ("description", "shape", "stiffness", "capacity_m3", "size", "pressure", "tilt"),
-            source,
-        )
-        shape = ck.get_str(data, "shape", source, choices=SHAPES)
-        size = _size_table(ck.get_table(data, "size", source, required=True), shape, source)
-        capacity = ck.get_float(
-            data,
+        top = Table(data, source or "", "")
+        top.expect(("description", "shape", "stiffness", "capacity_m3", "size", "pressure", "tilt"))
+        shape = top.string("shape", choices=SHAPES)
+        size = _size_table(top.table("size"), shape)
+        capacity = top.number(
             "capacity_m3",
-            source,
-            lo=0.0,
-            hi=MAX_CAPACITY_M3,
-            lo_open=True,
+            minimum=0.0,
+            exclusive=True,
+            maximum=MAX_CAPACITY_M3,
             hint=" (m^3: 30 mm^3 is 3e-8)",
         )
-        return cls(
+        preset = cls(
             name=name,
             shape=shape,
             size_m=size,
-            stiffness=ck.get_float(data, "stiffness", source, lo=0.0, hi=1.0),
+            stiffness=top.number("stiffness", minimum=0.0, maximum=1.0),
             capacity_m3=capacity,
-            pressure=_pressure(data, size["length_m"], source),
-            tilt=_tilt(data, source),
-            description=ck.get_str(data, "description", source, default=""),
+            pressure=_pressure(top.table("pressure"), size["length_m"]),
+            tilt=_tilt(top.table("tilt", {})),
+            description=top.string("description", ""),
         )
+        top.finish()
+        return preset
 
 
-def _size_table(table: dict[str, Any], shape: str, source: str | None) -> dict[str, float]:
-    keys = SIZE_KEYS[shape]
-    ck.check_keys(table, keys, source, "size")
+def _size_table(table: Table, shape: str) -> dict[str, float]:
+    table.expect(SIZE_KEYS[shape])
     size: dict[str, float] = {}
-    for key in keys:
+    for key in SIZE_KEYS[shape]:
         if key == "corner_radius_m":
             default = 0.5 * size["thickness_m"] if shape == "flat" else 0.0
-            size[key] = ck.get_float(table, key, source, "size", default=default, lo=0.0)
+            size[key] = table.number(key, default, minimum=0.0)
         else:
-            size[key] = ck.get_float(
-                table, key, source, "size", lo=MIN_SIZE_M, hi=MAX_SIZE_M, hint=_SIZE_HINT
-            )
-    _check_geometry(size, shape, source)
+            size[key] = table.number(key, minimum=MIN_SIZE_M, maximum=MAX_SIZE_M, hint=_SIZE_HINT)
+    table.finish()
+    _check_geometry(size, shape, table)
     return size
 
 
-def _check_geometry(size: dict[str, float], shape: str, source: str | None) -> None:
+def _check_geometry(size: dict[str, float], shape: str, table: Table) -> None:
     def fail(key: str, message: str) -> None:
-        raise InputError(message, source=source, key=f"size.{key}")
+        raise table.error(key, message)
 
     if shape == "round":
         widest = max(size["tip_radius_m"], size["belly_radius_m"])
@@ -190,34 +186,33 @@ def _check_geometry(size: dict[str, float], shape: str, source: str | None) -> N
         fail("corner_radius_m", f"expected at most half the smallest size ({0.5 * smallest:g} m)")
 
 
-def _pressure(data: Mapping[str, Any], length_m: float, source: str | None) -> PressureResponse:
-    table = ck.get_table(data, "pressure", source, required=True)
-    ck.check_keys(table, ("depth_m", "exponent", "spread"), source, "pressure")
-    depth = ck.get_float(
-        table,
+def _pressure(table: Table, length_m: float) -> PressureResponse:
+    table.expect(("depth_m", "exponent", "spread"))
+    depth = table.number(
         "depth_m",
-        source,
-        "pressure",
-        lo=0.0,
-        hi=length_m,
-        lo_open=True,
+        minimum=0.0,
+        exclusive=True,
+        maximum=length_m,
         hint=" (metres, at most the tip length)",
     )
-    return PressureResponse(
+    response = PressureResponse(
         depth_m=depth,
-        exponent=ck.get_float(table, "exponent", source, "pressure", default=1.0, lo=0.1, hi=10.0),
-        spread=ck.get_float(table, "spread", source, "pressure", default=0.0, lo=0.0, hi=4.0),
+        exponent=table.number("exponent", 1.0, minimum=0.1, maximum=10.0),
+        spread=table.number("spread", 0.0, minimum=0.0, maximum=4.0),
     )
+    table.finish()
+    return response
 
 
-def _tilt(data: Mapping[str, Any], source: str | None) -> TiltResponse:
-    table = ck.get_table(data, "tilt", source, required=False)
-    ck.check_keys(table, ("gain", "max_rad", "twist_gain"), source, "tilt")
-    return TiltResponse(
-        gain=ck.get_float(table, "gain", source, "tilt", default=1.0, lo=0.0, hi=1.0),
-        max_rad=ck.get_float(table, "max_rad", source, "tilt", default=1.2, lo=0.0, hi=1.5),
-        twist_gain=ck.get_float(table, "twist_gain", source, "tilt", default=1.0, lo=0.0, hi=1.0),
+def _tilt(table: Table) -> TiltResponse:
+    table.expect(("gain", "max_rad", "twist_gain"))
+    response = TiltResponse(
+        gain=table.number("gain", 1.0, minimum=0.0, maximum=1.0),
+        max_rad=table.number("max_rad", 1.2, minimum=0.0, maximum=1.5),
+        twist_gain=table.number("twist_gain", 1.0, minimum=0.0, maximum=1.0),
     )
+    table.finish()
+    return response
 
 
 def load_preset(path: str | Path) -> BrushPreset:
@@ -229,7 +224,7 @@ def load_preset(path: str | Path) -> BrushPreset:
     path = Path(path)
     source = str(path)
     try:
-        name = ck.check_name(path.stem, "brush preset")
+        name = check_preset_name(path.stem, "brush preset")
     except ValueError as exc:
         raise InputError(str(exc), source=source) from None
     try:
@@ -250,13 +245,13 @@ def load_preset(path: str | Path) -> BrushPreset:
 def list_presets(directory: str | Path) -> dict[str, Path]:
     """Preset name -> file for every ``*.toml`` in ``directory``, sorted by name."""
     files = sorted(Path(directory).glob("*.toml"))
-    return {path.stem: path for path in files if ck.NAME_PATTERN.match(path.stem)}
+    return {path.stem: path for path in files if is_preset_name(path.stem)}
 
 
 def find_preset(name: str, directory: str | Path) -> Path:
     """The file of preset ``name`` in ``directory``; :class:`InputError` listing the known ones."""
     try:
-        ck.check_name(name, "brush preset")
+        check_preset_name(name, "brush preset")
     except ValueError as exc:
         raise InputError(str(exc), key="brush") from None
     known = list_presets(directory)

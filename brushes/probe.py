@@ -15,9 +15,9 @@ import numpy as np
 
 from brushes.pose import TipPose
 from brushes.presets import BrushPreset
-from brushes.rotation import yaw_angle
-from brushes.shapes import Section, Shape
-from solver import rotation as _rot
+from brushes.tips import Section, Shape
+from common import quaternion as _rot
+from common.tilt import yaw_angle
 from solver.probes import Probe
 
 
@@ -110,7 +110,7 @@ def probe_motion_2d(
 
     The shape is the cut of the (splayed) tip by the body plane ``z = section_z_m`` (default: half
     the press depth above the apex, the middle of the pressed part); the 2D angle is the tip's yaw
-    (:func:`brushes.rotation.yaw_angle`) and the angular velocity its z component. Tilt is not
+    (:func:`common.tilt.yaw_angle`) and the angular velocity its z component. Tilt is not
     represented in 2D.
     """
     z = 0.5 * pose.press_depth_m if section_z_m is None else section_z_m

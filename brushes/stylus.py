@@ -2,7 +2,7 @@
 
 Canvas frame (metres, right-handed, as the painter sees it): origin at the canvas's bottom-left
 corner, x right, y up, z out of the canvas plane toward the painter. Tilt follows
-:mod:`brushes.rotation`.
+:mod:`common.tilt`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from solver.errors import InputError
+from common.errors import InputError
 
 MAX_BUTTONS = 2**31 - 1
 

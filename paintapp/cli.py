@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import paintapp
 import paintapp.commands
-from solver.errors import InputError
+from common.errors import InputError
 
 
 def build_parser() -> argparse.ArgumentParser:

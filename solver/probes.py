@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from solver import rotation
+from common import quaternion as rotation
 from solver.grid import Grid
 from solver.shapes import Shape
 

@@ -1,7 +1,7 @@
 """Scene files (TOML, schema version 1): domain, fluid, boundaries, probes, run, outputs.
 
 The schema is a contract shared with other tools; see the README for the full description.
-Every problem is reported as an :class:`~solver.errors.InputError` naming the file and key.
+Every problem is reported as an :class:`~common.errors.InputError` naming the file and key.
 """
 
 from __future__ import annotations
@@ -12,13 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
+from common.errors import InputError
+from common.tables import Table
 from solver.advection import SCHEMES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.drag_models import MODELS
-from solver.errors import InputError
 from solver.grid import Grid
 from solver.probes import Probe
-from solver.schema import Table
 from solver.shapes import Ball, Box
 from solver.simulation import Fluid, Simulation, SolverSettings
 

@@ -13,11 +13,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from brushes import PaintReservoir
+from common.errors import InputError
 from paintapp.app.history import UndoHistory, copy_canvas
 from paintapp.app.settings import PaintSettings
-from paintapp.canvas import Canvas
-from paintapp.strokes_format import CleanBrush, LoadPigment, SwitchBrush
-from solver.errors import InputError
+from paintapp.canvas.model import Canvas
+from paintapp.strokes.records import CleanBrush, LoadPigment, SwitchBrush
 
 if TYPE_CHECKING:
     from paintapp.app.worker import Command, SimulationWorker

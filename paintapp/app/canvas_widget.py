@@ -27,7 +27,7 @@ from paintapp.app.input import (
     pen_from_tablet,
 )
 from paintapp.app.shared import RateMeter, SharedCanvas, WorkerStatus
-from paintapp.pigments import PigmentLibrary
+from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import BrushOutline, CanvasRenderer, ForceArrow, Lighting
 
 #: Force arrow length on the canvas per newton of (unscaled) fluid force, in canvas widths

@@ -38,8 +38,8 @@ from PySide6.QtWidgets import (
 
 from paintapp.app.settings import MODEL_LABELS, PaintSettings, brush_names
 from paintapp.app.slab_widget import SlabWidget
-from paintapp.pigments import PigmentLibrary
-from paintapp.pigments_spectral import srgb_encode
+from paintapp.pigments.library import PigmentLibrary
+from paintapp.pigments.spectra import srgb_encode
 from paintapp.render import Lighting
 
 

@@ -3,7 +3,7 @@
 ``--device`` chooses the input route:
 
 - ``none``: no haptic device; the tablet or mouse feeds the painting session directly.
-- ``sim``: a :class:`~paintapp.haptics.simulated.SimulatedDevice` whose simulated hand follows
+- ``sim``: a :class:`~paintapp.haptics.devices.simulated.SimulatedDevice` whose simulated hand follows
   the pointer: pen up, the hand hovers 5 mm above the canvas; pen down, it pushes the tip into
   the paint as deep as the pen's pressure asks. The force the loop writes acts back on the hand.
 - ``hid:VID:PID`` (optionally ``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
@@ -24,18 +24,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from brushes import StylusSample
-from paintapp.haptics import (
-    ForceChannel,
-    HidDevice,
-    RealTimeClock,
-    ServoConfig,
-    ServoLoop,
-    SimulatedDevice,
-)
+from common.errors import InputError
+from paintapp.haptics.channel import ForceChannel
+from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.device import DeviceState, HapticDevice
-from paintapp.haptics.hid_transport import open_hid, parse_ids
-from paintapp.haptics.pose import tilt_twist_from_quat
-from solver.errors import InputError
+from paintapp.haptics.devices.hid import HidDevice
+from paintapp.haptics.devices.hid_transport import open_hid, parse_ids
+from paintapp.haptics.devices.simulated import SimulatedDevice
+from paintapp.haptics.orientation import tilt_twist_from_quat
+from paintapp.haptics.servo import ServoConfig, ServoLoop
 
 #: Height the simulated hand hovers above the canvas with the pen up, m.
 HOVER_M = 0.005

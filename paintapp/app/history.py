@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from paintapp.canvas import Canvas
-from paintapp.canvas_region import Box, box_of_nonzero, union_box
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.regions import Box, box_of_nonzero, union_box
 
 #: Default limits: steps and bytes.
 DEFAULT_MAX_STEPS = 100

@@ -1,7 +1,7 @@
 """The stroke journal: every sample and event the painting session consumed, as it happens.
 
 The simulation worker writes each stylus sample it hands to the session, and every palette or
-brush event, through a :class:`~paintapp.strokes.StrokeRecorder` (one flushed line per record),
+brush event, through a :class:`~paintapp.strokes.recorder.StrokeRecorder` (one flushed line per record),
 so a crash loses at most the line being written. Times are the session's own clock, so replaying
 the journal (``paintapp replay``) paints the same strokes in the same steps.
 
@@ -24,10 +24,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from paintapp.canvas import Canvas
-from paintapp.strokes import StrokeRecorder
-from paintapp.strokes_format import Marker, StrokeHeader, StrokeRecord
-from solver.errors import InputError
+from common.errors import InputError
+from paintapp.canvas.model import Canvas
+from paintapp.strokes.recorder import StrokeRecorder
+from paintapp.strokes.records import Marker, StrokeHeader, StrokeRecord
 
 _NAME = re.compile(r"[^A-Za-z0-9_.-]")
 

@@ -6,10 +6,10 @@ import os
 import sys
 from pathlib import Path
 
+from common.errors import InputError
 from paintapp.app.options import PaintOptions, blank_canvas
-from paintapp.canvas import Canvas
-from paintapp.pigments import PigmentLibrary, load_pigment_library
-from solver.errors import InputError
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 
 NO_DISPLAY = (
     "no display: paintapp paint opens a window and needs a graphical session "
@@ -60,7 +60,7 @@ def starting_canvas(
     """The canvas to start with, its file, and a note: the given file, a recovered autosave
     (asked, or as ``options.recover`` says), or a blank canvas."""
     from paintapp.app.recovery import Recovery
-    from paintapp.canvas_io import read_canvas_exr
+    from paintapp.canvas.exr import read_canvas_exr
 
     recovery = Recovery(options.recovery_dir, library)
     pending = recovery.pending()
@@ -92,7 +92,7 @@ def create_window(options: PaintOptions, interactive: bool = True):
     app = qt_application()
     from paintapp.app.haptic_link import HapticLink
     from paintapp.app.window import PaintWindow
-    from paintapp.haptics import ForceChannel
+    from paintapp.haptics.channel import ForceChannel
 
     library = load_pigment_library()
     canvas, document, note = starting_canvas(options, library)

@@ -8,7 +8,7 @@ from pathlib import Path
 from paintapp.app.haptic_link import DeviceSpec
 from paintapp.app.recovery import default_recovery_dir
 from paintapp.app.settings import PaintSettings
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 from paintapp.paint import PaintScene
 
 #: A new canvas: pixels and metres (0.25 mm texels, as the demo's).

@@ -20,11 +20,11 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from common.errors import InputError
 from paintapp.atomic import atomic_write_text
-from paintapp.canvas import Canvas
-from paintapp.canvas_io import read_canvas_exr, write_canvas_exr
-from paintapp.pigments import PigmentLibrary
-from solver.errors import InputError
+from paintapp.canvas.exr import read_canvas_exr, write_canvas_exr
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.library import PigmentLibrary
 
 CANVAS_NAME = "autosave.exr"
 NOTE_NAME = "autosave.json"

@@ -13,12 +13,12 @@ from dataclasses import dataclass, replace
 
 from brushes import BrushPreset
 from brushes.presets import list_presets, load_preset_named
-from paintapp.canvas import Canvas
+from common.errors import InputError
+from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
 from paintapp.paint import FLUID_MODELS, PaintScene, brush_width_m, load_paint_scene
 from paintapp.resources import asset_path
-from paintapp.session import PaintingSession
-from solver.errors import InputError
+from paintapp.session.painting import PaintingSession
 
 #: The bundled scene used for each fluid model.
 MODEL_SCENES = {"grid3d": "default", "depth_averaged": "thin_glaze", "none": "no_fluid"}

@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from paintapp.app.history import copy_canvas, copy_region
-from paintapp.canvas import Canvas
-from paintapp.canvas_region import Box
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import LatestValue
 
 

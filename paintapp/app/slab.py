@@ -1,6 +1,6 @@
 """The mixing slab: a small palette area where paint is put out and mixed with the brush.
 
-The slab is a small :class:`~paintapp.canvas.Canvas` (4 x 4 cm, 64 x 64 texels) owned by the
+The slab is a small :class:`~paintapp.canvas.model.Canvas` (4 x 4 cm, 64 x 64 texels) owned by the
 simulation worker, like the brush's reservoir. What happens on it is deliberately simple:
 
 - **put**: a blob of a pure palette pigment (``PUT_VOLUME_M3``) is laid in a disc at the
@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from brushes import PaintReservoir
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 
 #: Slab size, texels and metres.
 SLAB_PIXELS = (64, 64)

@@ -17,10 +17,10 @@ from PySide6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPen
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from paintapp.app.slab import SLAB_PIXELS, SLAB_SIZE_M
-from paintapp.canvas import Canvas
-from paintapp.canvas_io import unlit_rgba
-from paintapp.pigments import PigmentLibrary
-from paintapp.pigments_spectral import srgb_encode
+from paintapp.canvas.exr import unlit_rgba
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.library import PigmentLibrary
+from paintapp.pigments.spectra import srgb_encode
 
 #: Pointer travel on the slab between two dabs of a drag, m.
 DAB_STEP_M = 0.0015

@@ -18,11 +18,12 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QMainWindow, QMessageBox, QScrollArea
+from PySide6.QtWidgets import QDockWidget, QFileDialog, QMainWindow, QMessageBox, QScrollArea
 
-from paintapp.app import actions, files
+from paintapp.app import actions
 from paintapp.app.canvas_widget import CanvasWidget
 from paintapp.app.controls import ControlsPanel
+from paintapp.app.document import Document
 from paintapp.app.haptic_link import HapticLink
 from paintapp.app.history import copy_canvas
 from paintapp.app.hud import HudData, HudOverlay
@@ -34,8 +35,8 @@ from paintapp.app.settings import MAX_SCALE, MIN_SCALE, MODEL_LABELS, PaintSetti
 from paintapp.app.shared import SharedCanvas
 from paintapp.app.shortcuts import SHORTCUTS, HelpOverlay
 from paintapp.app.worker import SimulationWorker
-from paintapp.canvas import Canvas
-from paintapp.pigments import PigmentLibrary
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import Lighting
 
 HUD_EVERY_FRAMES = 2
@@ -67,7 +68,6 @@ class PaintWindow(QMainWindow):
         self.options = options
         self.link = link
         self.interactive = interactive
-        self.document: Path | None = None
         self.settings: PaintSettings = options.settings
         self.pigments = tuple(sorted(library))[:16]
         self.shared = SharedCanvas(copy_canvas(canvas))
@@ -77,14 +77,16 @@ class PaintWindow(QMainWindow):
         )
         self.recovery = Recovery(options.recovery_dir, library)
         self.pen_events = 0
-        self.saved_version = 0
         self._frame = 0
         self._fault_seen = False
         self._slab_seq = 0
         self._build_widgets()
+        self.document = Document(
+            self.shared, library, self.worker.submit, self.picture_for, _WindowDialogs(self)
+        )
         self._build_actions()
         self._start_timers()
-        self.set_document(document)
+        self.document.set_path(document)
         self.resize(1180, 760)
         self.worker.start()
 
@@ -128,11 +130,11 @@ class PaintWindow(QMainWindow):
             "help": lambda: self.help.setVisible(not self.help.isVisible()),
             "undo": self.undo,
             "redo": self.redo,
-            "new": lambda: files.new_canvas(self),
-            "open": lambda: files.open_canvas(self),
-            "save": lambda: files.save_canvas(self),
-            "save_as": lambda: files.save_canvas(self, ask=True),
-            "export": lambda: files.export_picture(self),
+            "new": self.document.new,
+            "open": self.document.open,
+            "save": self.document.save,
+            "save_as": lambda: self.document.save(ask=True),
+            "export": self.document.export,
             "clean": self.clean_brush,
             "slab_mix": self.slab_mix,
             "slab_clear": self.slab_clear,
@@ -320,11 +322,6 @@ class PaintWindow(QMainWindow):
         self.worker.submit(actions.redo())
 
     # --- documents ------------------------------------------------------------------------------
-    def set_document(self, path: Path | None) -> None:
-        """The file the canvas is saved to."""
-        self.document = path
-        self.setWindowTitle(f"paintapp paint - {path.name if path else 'untitled'}")
-
     def picture_for(self, canvas: Canvas) -> np.ndarray | None:
         """The lit picture of the display canvas, if it matches ``canvas``'s size."""
         rgba = self.canvas_widget.render_picture()
@@ -337,13 +334,13 @@ class PaintWindow(QMainWindow):
         if not force and self.shared.version == self.recovery.saved_version:
             return
         canvas, version = self.shared.snapshot()
-        document = str(self.document) if self.document else None
+        document = str(self.document.path) if self.document.path else None
         journal = str(self.journal.path) if self.journal.path else None
         self.recovery.save_async(canvas, version, document, journal)
 
     def closeEvent(self, event: QCloseEvent) -> None:
         """Offer to save unsaved paint, stop the threads; a clean exit removes the autosave."""
-        if self.interactive and self.shared.version != self.saved_version:
+        if self.interactive and self.document.unsaved:
             buttons = QMessageBox.StandardButton
             answer = QMessageBox.question(
                 self,
@@ -351,7 +348,7 @@ class PaintWindow(QMainWindow):
                 "Save the canvas before closing?",
                 buttons.Save | buttons.Discard | buttons.Cancel,
             )
-            if answer == buttons.Cancel or (answer == buttons.Save and not files.save_canvas(self)):
+            if answer == buttons.Cancel or (answer == buttons.Save and not self.document.save()):
                 event.ignore()
                 return
         self.render_timer.stop()
@@ -361,3 +358,29 @@ class PaintWindow(QMainWindow):
             self.link.stop()
         self.recovery.discard()
         event.accept()
+
+
+class _WindowDialogs:
+    """The window's file dialogs and messages, for its :class:`Document`."""
+
+    def __init__(self, window: PaintWindow) -> None:
+        self.window = window
+
+    def ask_open(self, title: str, filter_text: str) -> str | None:
+        path, _ = QFileDialog.getOpenFileName(self.window, title, "", filter_text)
+        return path or None
+
+    def ask_save(self, title: str, filter_text: str) -> str | None:
+        path, _ = QFileDialog.getSaveFileName(self.window, title, "", filter_text)
+        return path or None
+
+    def warn(self, title: str, exc: Exception) -> None:
+        if self.window.interactive:
+            QMessageBox.warning(self.window, title, str(exc))
+        self.window.statusBar().showMessage(f"{title}: {exc}", 10000)
+
+    def status(self, message: str) -> None:
+        self.window.statusBar().showMessage(message, 5000)
+
+    def titled(self, path: Path | None) -> None:
+        self.window.setWindowTitle(f"paintapp paint - {path.name if path else 'untitled'}")

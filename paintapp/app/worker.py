@@ -9,7 +9,7 @@ Each pass of its loop:
    the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
    pose the servo loop published;
 3. stamps each sample with the session clock, hands it to the
-   :class:`~paintapp.session.PaintingSession` (which publishes the force to the servo loop's
+   :class:`~paintapp.session.painting.PaintingSession` (which publishes the force to the servo loop's
    channel) and journals it;
 4. copies the canvas region that changed into the display canvas (under the shared lock, only
    for the copy), grows the current stroke's region, commits the stroke to the undo history when
@@ -34,6 +34,7 @@ from collections.abc import Callable
 import numpy as np
 
 from brushes import StylusSample
+from common.errors import InputError
 from paintapp.app.haptic_link import HapticLink, sample_from_state
 from paintapp.app.history import UndoHistory, copy_canvas, grow
 from paintapp.app.journal import Journal, make_header
@@ -46,12 +47,11 @@ from paintapp.app.settings import (
 )
 from paintapp.app.shared import AppClock, RateMeter, SharedCanvas, StatusSlot, WorkerStatus
 from paintapp.app.slab import MixingSlab
-from paintapp.canvas import Canvas
-from paintapp.canvas_region import Box
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import ForceChannel, LatestValue
 from paintapp.paint import PaintScene
-from paintapp.strokes_format import StrokeHeader
-from solver.errors import InputError
+from paintapp.strokes.records import StrokeHeader
 
 #: Longest session time one sample may advance, s.
 MAX_STEP_S = 0.05

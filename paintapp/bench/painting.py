@@ -11,7 +11,7 @@
 
 ``strokes = "short"`` is the first stroke of the golden 3D-grid recording (a small round brush
 laying blue on a 4 cm canvas, half a second); ``"demo"`` is the bundled demo recording. Errors are the
-:mod:`paintapp.replay_compare` figures (colour, paint height and force trace RMS); costs are the
+:mod:`paintapp.session.compare` figures (colour, paint height and force trace RMS); costs are the
 median paint-step time (ms), the replay's wall time (s), and the steps and solver steps taken.
 """
 
@@ -24,13 +24,14 @@ from typing import Any
 import numpy as np
 
 from paintapp.bench.measure import Measurement
-from paintapp.bench.suite import Family, register_family
+from paintapp.bench.registry import Family
 from paintapp.paint import load_paint_scene
-from paintapp.paint.scene import FULL_MODEL
-from paintapp.replay import ReplayResult, replay
-from paintapp.replay_compare import ReplaySnapshot, compare_replays, snapshot
-from paintapp.replay_explain import choice_summary
-from paintapp.strokes import StrokeFile, read_strokes
+from paintapp.paint.paint_scene import FULL_MODEL
+from paintapp.resources import asset_path
+from paintapp.session.compare import ReplaySnapshot, compare_replays, snapshot
+from paintapp.session.explain import choice_summary
+from paintapp.session.playback import ReplayResult, replay
+from paintapp.strokes.files import StrokeFile, read_strokes
 
 CHOICES = ("full3d", "default", "fit", "auto")
 _REFERENCES: dict[tuple[str, str], tuple[ReplaySnapshot, float, Measurement]] = {}
@@ -39,15 +40,9 @@ _WARM: set[str] = set()
 
 def bench_strokes(name: str) -> StrokeFile:
     """The strokes a painting benchmark replays: ``short`` or ``demo``."""
-    if name == "short":
-        from paintapp.goldens import golden_recordings
-
-        header, records = golden_recordings()["grid3d_drag"]
-        first = [r for r in records if r.t_s < 0.6]  # the round brush's stroke, before the probe
-        return StrokeFile(header, tuple(first), source="golden grid3d_drag, first stroke")
+    if name == "short":  # the round brush's stroke of the golden replay grid3d_drag
+        return read_strokes(asset_path("strokes", "bench_short.jsonl"))
     if name == "demo":
-        from paintapp.resources import asset_path
-
         return read_strokes(asset_path("strokes", "demo.jsonl"))
     raise ValueError(f"unknown strokes {name!r}; expected short or demo")
 
@@ -124,17 +119,25 @@ def clear_references() -> None:
 
 
 _ERRORS = ("colour_rms", "force_rms_rel", "height_rms_rel")
-register_family(Family(
-    "painting_models", painting_models, _ERRORS, {"strokes": "short", "choice": "auto"},
-    cost_key="replay_s",
-    reference="the same strokes with nothing left out (3D grid everywhere, full grid, all channels)",
-    quick=tuple({"choice": c} for c in CHOICES),
-    full=tuple({"strokes": "demo", "choice": c} for c in CHOICES),
-))  # fmt: skip
-register_family(Family(
-    "painting_fidelity", painting_fidelity, _ERRORS, {"strokes": "short", "fidelity": "standard"},
-    cost_key="replay_s",
-    reference="the same strokes replayed at fidelity high",
-    quick=tuple({"fidelity": f} for f in ("draft", "standard", "high")),
-    full=tuple({"strokes": "demo", "fidelity": f} for f in ("draft", "standard", "high")),
-))  # fmt: skip
+
+
+def painting_families() -> list[Family]:
+    """The painting replays' families: what leaving parts of the model out costs and saves, and
+    the fidelity presets."""
+    models = Family(
+        "painting_models", painting_models, _ERRORS, {"strokes": "short", "choice": "auto"},
+        cost_key="replay_s",
+        reference="the same strokes with nothing left out (3D grid everywhere, full grid, all channels)",
+        quick=tuple({"choice": c} for c in CHOICES),
+        full=tuple({"strokes": "demo", "choice": c} for c in CHOICES),
+        cleanup=clear_references,
+    )  # fmt: skip
+    fidelity = Family(
+        "painting_fidelity", painting_fidelity, _ERRORS, {"strokes": "short", "fidelity": "standard"},
+        cost_key="replay_s",
+        reference="the same strokes replayed at fidelity high",
+        quick=tuple({"fidelity": f} for f in ("draft", "standard", "high")),
+        full=tuple({"strokes": "demo", "fidelity": f} for f in ("draft", "standard", "high")),
+        cleanup=clear_references,
+    )  # fmt: skip
+    return [models, fidelity]

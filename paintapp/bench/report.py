@@ -1,6 +1,6 @@
 """Presenting benchmark records: a text table, and the Pareto front of error against cost.
 
-A record is what :func:`paintapp.bench.suite.run_setting` returns: ``name``, ``family``,
+A record is what :meth:`paintapp.bench.registry.Registry.run_setting` returns: ``name``, ``family``,
 ``knobs``, ``cost`` and ``errors`` (and ``failed`` when the run raised).
 """
 
@@ -12,9 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from paintapp.bench.suite import FAMILIES
-
-Record = dict[str, Any]
+from paintapp.bench.registry import Family, Record
 
 
 def _fmt(value: Any) -> str:
@@ -61,10 +59,13 @@ def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
     return front
 
 
-def panels(records: Sequence[Record]) -> list[tuple[str, str, str, list[Record]]]:
+def panels(
+    records: Sequence[Record], families: Sequence[Family]
+) -> list[tuple[str, str, str, list[Record]]]:
     """(family, error key, cost key, records) for every plotted panel with data."""
     out = []
-    for name, fam in FAMILIES.items():
+    for fam in families:
+        name = fam.name
         rows = [r for r in records if r["family"] == name and "failed" not in r]
         for key in fam.errors:
             usable = [r for r in rows if r["errors"].get(key) is not None]
@@ -73,7 +74,7 @@ def panels(records: Sequence[Record]) -> list[tuple[str, str, str, list[Record]]
     return out
 
 
-def plot_pareto(records: Sequence[Record], path: str | Path) -> None:
+def plot_pareto(records: Sequence[Record], families: Sequence[Family], path: str | Path) -> None:
     """Write a PNG with one panel per (family, error): error against cost, front highlighted."""
     import matplotlib
 
@@ -82,7 +83,7 @@ def plot_pareto(records: Sequence[Record], path: str | Path) -> None:
 
     from paintapp.atomic import atomic_write_with
 
-    groups = panels(records)
+    groups = panels(records, families)
     if not groups:
         raise ValueError("no successful settings to plot")
     cols = min(3, len(groups))

@@ -13,11 +13,15 @@ import json
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tqdm import tqdm
 
+from common.errors import InputError
 from paintapp.atomic import atomic_write_text
-from solver.errors import InputError
+
+if TYPE_CHECKING:
+    from paintapp.bench.registry import Registry
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,18 +39,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+def bench_registry() -> Registry:
+    """The families ``paintapp bench`` runs: the solver's, then the painting replays'."""
+    from paintapp.bench.painting import painting_families
+    from paintapp.bench.registry import Registry
+    from paintapp.bench.solver_families import solver_families
+
+    return Registry([*solver_families(), *painting_families()])
+
+
 def run(args: argparse.Namespace) -> int:
     # imported here: scipy.signal and the benchmark modules are slow to load for other commands
     from paintapp.bench.report import format_table, json_ready, plot_pareto
-    from paintapp.bench.suite import FAMILIES, full_settings, quick_settings, run_setting
-    from paintapp.bench.sweep_force import clear_cache
 
-    settings = quick_settings() if args.quick else full_settings()
+    registry = bench_registry()
+    settings = registry.quick_settings() if args.quick else registry.full_settings()
     if args.only:
-        unknown = sorted(set(args.only) - set(FAMILIES))
+        unknown = sorted(set(args.only) - set(registry.families))
         if unknown:
             raise InputError(
-                f"unknown family {', '.join(unknown)}; expected {', '.join(FAMILIES)}",
+                f"unknown family {', '.join(unknown)}; expected {', '.join(registry.families)}",
                 key="--only",
             )
         settings = [s for s in settings if s.family in args.only]
@@ -58,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
     bar = tqdm(settings, unit="setting", file=sys.stderr, leave=False)
     for setting in bar:
         bar.set_postfix_str(setting.label)
-        records.append(run_setting(setting))
-    clear_cache()
+        records.append(registry.run_setting(setting))
+    registry.cleanup()
     elapsed = time.perf_counter() - start
     print(format_table(records))
     print(f"{len(records)} settings in {elapsed:.1f} s")
@@ -68,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {args.json}")
     if args.plot:
         try:
-            plot_pareto(records, args.plot)
+            plot_pareto(records, list(registry.families.values()), args.plot)
         except ValueError as exc:  # nothing succeeded, so nothing to plot
             print(f"paintapp bench: error: {exc}", file=sys.stderr)
             return 1

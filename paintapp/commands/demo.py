@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.commands.replay import add_replay_options, print_explanation, replay_with_progress
-from paintapp.replay_files import plot_forces, write_canvas_outputs, write_forces_csv
 from paintapp.resources import asset_path
-from paintapp.strokes import read_strokes
-from solver.errors import InputError
+from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
+from paintapp.strokes.files import read_strokes
 
 DEMO_STROKES = ("strokes", "demo.jsonl")
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import argparse
 
-from paintapp.haptics.catalog import builtin_devices, hid_listing, probe_hid
-from paintapp.haptics.hid_transport import parse_ids
+from paintapp.haptics.devices.catalog import builtin_devices, hid_listing, probe_hid
+from paintapp.haptics.devices.hid_transport import parse_ids
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from paintapp.canvas import Canvas
-from paintapp.canvas_io import read_canvas_exr, read_exr_rgba, unlit_rgba, write_canvas_exr
-from paintapp.canvas_preview import write_preview_png
-from paintapp.pigments import PigmentLibrary, load_pigment_library
-from solver.errors import InputError
+from common.errors import InputError
+from paintapp.canvas.exr import read_canvas_exr, read_exr_rgba, unlit_rgba, write_canvas_exr
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.preview import write_preview_png
+from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 
 
 def register(sub: argparse._SubParsersAction) -> None:

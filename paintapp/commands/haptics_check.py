@@ -12,11 +12,11 @@ import sys
 
 from tqdm import tqdm
 
-from paintapp.haptics.check import format_table, load_simulation, run_once
+from common.errors import InputError
+from paintapp.bench.servo_check import format_table, load_simulation, run_once
 from paintapp.haptics.filters import FILTER_KINDS, FilterConfig
 from paintapp.haptics.fluid import FluidConfig
 from paintapp.haptics.servo import ServoConfig
-from solver.errors import InputError
 
 
 def register(sub: argparse._SubParsersAction) -> None:

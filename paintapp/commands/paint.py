@@ -14,13 +14,13 @@ import argparse
 import sys
 from pathlib import Path
 
+from common.errors import InputError
 from paintapp.app.haptic_link import parse_device
 from paintapp.app.launch import NO_DISPLAY, display_available
 from paintapp.app.options import PaintOptions
 from paintapp.app.recovery import default_recovery_dir
 from paintapp.app.settings import PaintSettings, brush_names
 from paintapp.paint import FLUID_MODELS, load_paint_scene
-from solver.errors import InputError
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -19,13 +19,13 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from common.errors import InputError
 from paintapp.paint import load_paint_scene
 from paintapp.paint.fidelity import FIDELITIES, FIDELITY_NAMES
-from paintapp.replay import REPLAY_DEVICES, ReplayResult, replay
-from paintapp.replay_explain import explain_session
-from paintapp.replay_files import write_canvas_outputs, write_forces_csv
-from paintapp.strokes import StrokeFile, read_strokes
-from solver.errors import InputError
+from paintapp.session.explain import explain_session
+from paintapp.session.outputs import write_canvas_outputs, write_forces_csv
+from paintapp.session.playback import REPLAY_DEVICES, ReplayResult, replay
+from paintapp.strokes.files import StrokeFile, read_strokes
 
 
 def register(sub: argparse._SubParsersAction) -> None:

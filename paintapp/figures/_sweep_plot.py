@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.bench.square_sweep import SweepTrace, run_sweep, sweep_scene, sweep_summary
-from solver.errors import InputError
 
 MIN_CELLS = 8  # the 0.12 m square must span a few cells
 MAX_CELLS = 512

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.haptics.filters import make_filter
-from solver.errors import InputError
 
 FILTERS = ("zoh", "linear", "fir")
 LABELS = {

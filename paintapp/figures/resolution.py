@@ -12,7 +12,7 @@ import argparse
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from solver.errors import InputError
+from common.errors import InputError
 
 if TYPE_CHECKING:  # the solver and scipy load only when a figure is made, not at CLI start-up
     from paintapp.figures._sweep_plot import SweepFigureData

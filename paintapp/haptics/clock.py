@@ -49,8 +49,8 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
+from common.errors import InputError
 from paintapp.haptics.metrics import TimingRecorder, TimingReport
-from solver.errors import InputError
 
 TickFn = Callable[[int, float], bool]
 """A tick: called with the tick index and the clock time in seconds; returns False to stop."""

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.haptics.device import DeviceInfo
-from solver.errors import InputError
 
 
 @dataclass(frozen=True)

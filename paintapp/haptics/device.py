@@ -15,7 +15,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from solver.errors import InputError
+from common.errors import InputError
 
 
 class DeviceError(RuntimeError):

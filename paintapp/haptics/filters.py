@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from solver.errors import InputError
+from common.errors import InputError
 
 FILTER_KINDS = ("zoh", "linear", "fir")
 

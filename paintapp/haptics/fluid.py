@@ -19,9 +19,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.filters import ReconstructionFilter
-from solver.errors import InputError
 
 
 @dataclass(frozen=True)

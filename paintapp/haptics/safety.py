@@ -19,8 +19,8 @@ from enum import Enum
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.haptics.device import DeviceInfo
-from solver.errors import InputError
 
 
 class SafetyState(Enum):

@@ -12,12 +12,12 @@ Which model runs is the painting scene's choice (:class:`PaintScene.fluid_model`
 """
 
 from brushes import BrushPreset
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 from paintapp.paint.depth_averaged import PaintGridDepthAveraged
 from paintapp.paint.exchange import ExchangeReport
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.model import PaintModel, PaintStep, brush_width_m
-from paintapp.paint.scene import (
+from paintapp.paint.paint_scene import (
     FLUID_MODELS,
     PaintScene,
     list_paint_scenes,

@@ -1,7 +1,7 @@
 """Model only what the scene requires: the choice of paint model, grid and outputs per sample.
 
 :class:`ModelSelector` decides, for every stylus sample in contact, the least model that serves
-the scene (``PaintScene.choose``, :class:`~paintapp.paint.scene.ModelChoice`), and logs each
+the scene (``PaintScene.choose``, :class:`~paintapp.paint.paint_scene.ModelChoice`), and logs each
 decision with its reason. The rules, in order:
 
 1. **Air.** A brush in the air takes no step at all (the session never calls a model then).
@@ -33,10 +33,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
+from paintapp.paint.columns import square_texel_m
 from paintapp.paint.fit import GridFit
 from paintapp.paint.model import ForceNeeds
-from paintapp.paint.window import square_texel_m
 from solver.plan import Decision
 
 if TYPE_CHECKING:

@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, Section, TipPose
-from brushes.rotation import yaw_angle
-from paintapp.canvas import Canvas
+from common.tilt import yaw_angle
+from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import (
     CellSpace,
     ExchangeReport,
@@ -45,14 +45,13 @@ from paintapp.paint.model import (
     section_height_m,
     unwrap_angle,
 )
-from paintapp.paint.scene import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 from solver.boundary import DomainBoundary, Side
 from solver.faces import BOUNDARY
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.scalar_transport import transport
-from solver.simulation import Fluid
-from solver.variable_simulation import VariableViscositySimulation
+from solver.simulation import Fluid, Simulation
 
 PROBE = "brush"
 SIDES = {name: Side("outflow") for name in ("x_min", "x_max", "y_min", "y_max")}
@@ -114,7 +113,7 @@ class PaintGridDepthAveraged(PaintModel):
             reference_cells=scene.cells[0] + 2,
             needs=needs,
         )
-        self.sim: VariableViscositySimulation | None = None
+        self.sim: Simulation | None = None
         self.probe: Probe | None = None
 
     def _shape(self, pose: TipPose) -> Section:
@@ -127,7 +126,7 @@ class PaintGridDepthAveraged(PaintModel):
         self.probe = Probe(
             PROBE, self._shape(pose), 2, pose.position_m[:2], yaw_angle(pose.orientation)
         )
-        self.sim = VariableViscositySimulation(
+        self.sim = Simulation(
             grid,
             Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
             DomainBoundary(grid, dict(SIDES)),

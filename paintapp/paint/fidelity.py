@@ -25,8 +25,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from paintapp.paint.scene import MAX_CELLS, PaintScene
-from solver.errors import InputError
+from common.errors import InputError
+from paintapp.paint.paint_scene import MAX_CELLS, PaintScene
 
 
 @dataclass(frozen=True)

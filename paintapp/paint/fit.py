@@ -25,9 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushes import BrushPreset, TipPose
+from paintapp.paint.columns import cell_texels
 from paintapp.paint.model import brush_width_m
-from paintapp.paint.scene import PaintScene
-from paintapp.paint.window import cell_texels
+from paintapp.paint.paint_scene import PaintScene
 
 #: Extra lean (rad) a fitted grid allows beyond the tilt it was fitted at.
 LEAN_ALLOWANCE_RAD = 0.2

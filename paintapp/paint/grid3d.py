@@ -8,7 +8,7 @@ box and fluid can leave and enter above the paint. Columns not wholly on the can
 
 Fluid: one incompressible fluid of the paint's density whose dynamic viscosity varies by cell,
 ``mu = mu_air + phi (mu_paint - mu_air)`` with ``phi`` the cell's paint fraction
-(:class:`solver.variable_simulation.VariableViscositySimulation`): the paint is viscous, the air
+(:class:`solver.simulation.Simulation` with a per-cell viscosity field): the paint is viscous, the air
 above it is ``air_viscosity_ratio`` times thinner. The brush force is the solver's stress integral
 over the tip, so it grows with the paint the tip is in. The implicit solver has no time-step
 limit, so real oil-paint viscosities (10-100 Pa s) need no scaling.
@@ -26,17 +26,16 @@ from __future__ import annotations
 import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, exchange_with_brush
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
-from paintapp.paint.scene import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.scalar_transport import transport
-from solver.simulation import Fluid
-from solver.variable_simulation import VariableViscositySimulation
+from solver.simulation import Fluid, Simulation
 
 PROBE = "brush"
 SIDES = {
@@ -84,7 +83,7 @@ class PaintGrid3D(PaintModel):
             reference_cells=scene.cells[0],
             needs=needs,
         )
-        self.sim: VariableViscositySimulation | None = None
+        self.sim: Simulation | None = None
         self.probe: Probe | None = None
 
     def _grid(self) -> Grid:
@@ -99,7 +98,7 @@ class PaintGrid3D(PaintModel):
         probe.angular_velocity_rad_s = np.zeros(3)
         grid = self._grid()
         self.probe = probe
-        self.sim = VariableViscositySimulation(
+        self.sim = Simulation(
             grid,
             Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
             DomainBoundary(grid, dict(SIDES)),

@@ -28,10 +28,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
+from paintapp.paint.columns import ColumnWindow, cell_texels, square_texel_m
 from paintapp.paint.exchange import ExchangeReport
-from paintapp.paint.scene import PaintScene
-from paintapp.paint.window import ColumnWindow, cell_texels, square_texel_m
+from paintapp.paint.paint_scene import PaintScene
 from solver.simulation import SolverSettings
 
 

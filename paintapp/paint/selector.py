@@ -10,7 +10,7 @@ goes to :attr:`ModelSelector.decisions` with its reason.
 from __future__ import annotations
 
 from brushes import BrushPreset, PaintReservoir, TipPose
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 from paintapp.paint.choice import (
     ChoiceStats,
     Plan,
@@ -18,13 +18,13 @@ from paintapp.paint.choice import (
     layer_thickness_m,
     window_is_dry,
 )
+from paintapp.paint.columns import square_texel_m
 from paintapp.paint.depth_averaged import PaintGridDepthAveraged
 from paintapp.paint.fit import GridFit, fit_grid, full_grid, lean_rad, section_radius_m
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep
-from paintapp.paint.scene import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.stamp import StampModel
-from paintapp.paint.window import square_texel_m
 from solver.plan import Decision, explain
 
 MODEL_CLASSES: dict[str, type[PaintModel]] = {

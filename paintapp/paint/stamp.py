@@ -14,11 +14,11 @@ import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, Section, TipPose
 from brushes.probe import voxelize
-from brushes.rotation import yaw_angle
-from paintapp.canvas import Canvas
+from common.tilt import yaw_angle
+from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import ExchangeReport, deposit_volume
 from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, section_height_m
-from paintapp.paint.scene import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 
 
 class StampModel(PaintModel):

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from paintapp.canvas import Canvas
-from paintapp.pigments import PigmentLibrary, load_pigment_library
-from paintapp.pigments_bands import Bands
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.bands import Bands
+from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 from paintapp.render.context import create_headless_context
 from paintapp.render.renderer import CanvasRenderer
 from paintapp.render.view import Lighting

@@ -11,7 +11,7 @@ and headless export::
     rgba = renderer.render_linear_rgba(canvas)   # (H, W, 4) float32, row 0 = canvas bottom
 
 Output is linear scene-referred RGB with sRGB/Rec.709 primaries under D65 (see
-:mod:`paintapp.pigments_spectral`); alpha is 1 on the canvas.
+:mod:`paintapp.pigments.spectra`); alpha is 1 on the canvas.
 """
 
 from __future__ import annotations
@@ -21,10 +21,10 @@ from collections.abc import Sequence
 import moderngl
 import numpy as np
 
-from paintapp.canvas import MAX_PIGMENTS, Canvas
-from paintapp.canvas_region import Box
-from paintapp.pigments import PigmentLibrary
-from paintapp.pigments_bands import Bands, BandTable, band_table
+from paintapp.canvas.model import MAX_PIGMENTS, Canvas
+from paintapp.canvas.regions import Box
+from paintapp.pigments.bands import Bands, BandTable, band_table
+from paintapp.pigments.library import PigmentLibrary
 from paintapp.render.context import load_program
 from paintapp.render.overlays import BrushOutline, ForceArrow, arrow_triangles, outline_triangles
 from paintapp.render.textures import CanvasTextures

@@ -16,8 +16,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from paintapp.canvas import Canvas
-from paintapp.canvas_region import Box
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.regions import Box
 
 #: Texels per upload strip (bounds temporary memory).
 STRIP_TEXELS = 1 << 21

@@ -13,8 +13,8 @@ from brushes.presets import (
     load_preset,
     load_preset_named,
 )
-from brushes.shapes import RoundCone, RoundedBox
-from solver.errors import InputError
+from brushes.tips import RoundCone, RoundedBox
+from common.errors import InputError
 
 BUNDLED = Path(__file__).resolve().parents[2] / "assets" / "brushes"
 

@@ -9,9 +9,9 @@ import pytest
 
 from brushes.pose import TipTracker, place_tip
 from brushes.presets import BrushPreset, PressureResponse, TiltResponse
-from brushes.rotation import quat_to_matrix
 from brushes.stylus import StylusSample
-from solver.errors import InputError
+from common.errors import InputError
+from common.tilt import quat_to_matrix
 
 MM = 1e-3
 

@@ -7,8 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from brushes.rotation import quat_from_axis_angle, quat_to_matrix
-from brushes.shapes import (
+from brushes.tips import (
     Disc,
     Rect,
     RoundCone,
@@ -19,6 +18,7 @@ from brushes.shapes import (
     TipShape,
     lowest_point_z,
 )
+from common.tilt import quat_from_axis_angle, quat_to_matrix
 
 MM = 1e-3
 RNG = np.random.default_rng(7)

@@ -11,8 +11,8 @@ import pytest
 from brushes.pose import TipPose
 from brushes.presets import BrushPreset, PressureResponse, TiltResponse
 from brushes.probe import ProbeMotion, probe_motion, probe_motion_2d, rotation_matrix, voxelize
-from brushes.rotation import quat_from_axis_angle
-from brushes.shapes import Disc, Rect, RoundCone, RoundedBox, Splayed
+from brushes.tips import Disc, Rect, RoundCone, RoundedBox, Splayed
+from common.tilt import quat_from_axis_angle
 
 MM = 1e-3
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from solver import rotation
+from common import quaternion as rotation
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball, Box

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
+from common.errors import InputError
 from paintapp.cli import main
 from paintapp.resources import asset_path
-from solver.errors import InputError
 from solver.scene import load_scene
 
 GOOD = """

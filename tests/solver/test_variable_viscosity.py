@@ -1,4 +1,4 @@
-"""A simulation with a per-cell viscosity field (solver.variable_simulation)."""
+"""A simulation with a per-cell viscosity field (``Simulation.set_viscosity``)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,6 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball
 from solver.simulation import Fluid, Simulation, SolverSettings
-from solver.variable_simulation import VariableViscositySimulation
 
 TIGHT = SolverSettings(pressure_tolerance=1e-10, viscosity_tolerance=1e-10)
 
@@ -23,9 +22,12 @@ def build(cls, mu: float = 0.05, dim: int = 3):
     return cls(grid, Fluid(1.0, mu), DomainBoundary(grid, sides), [probe], TIGHT)
 
 
-def test_a_uniform_field_reproduces_the_constant_viscosity_solver():
+def test_a_uniform_field_set_between_steps_matches_a_fluid_of_that_viscosity():
+    """The per-cell field path and the scalar fluid viscosity give the same flow and force."""
     for dim in (2, 3):
-        a, b = build(Simulation, dim=dim), build(VariableViscositySimulation, dim=dim)
+        a = build(Simulation, mu=0.2, dim=dim)
+        b = build(Simulation, mu=0.05, dim=dim)
+        b.set_viscosity(np.full(b.grid.cells, 0.2))  # rho = 1: dynamic = kinematic
         for _ in range(3):
             a.step(0.05)
             b.step(0.05)
@@ -35,6 +37,10 @@ def test_a_uniform_field_reproduces_the_constant_viscosity_solver():
         np.testing.assert_allclose(
             b.forces["p"].torque, a.forces["p"].torque, rtol=1e-9, atol=1e-15
         )
+        c = build(Simulation, mu=0.05, dim=dim)
+        for _ in range(3):
+            c.step(0.05)
+        assert not np.allclose(c.forces["p"].force, a.forces["p"].force, rtol=0.05)
 
 
 def test_force_grows_with_the_viscosity_of_the_fluid_next_to_the_probe():
@@ -42,7 +48,7 @@ def test_force_grows_with_the_viscosity_of_the_fluid_next_to_the_probe():
     fluid far away hardly matters."""
     drags = {}
     for name, factor in (("thin", 1.0), ("thick", 10.0)):
-        sim = build(VariableViscositySimulation, mu=1.0)
+        sim = build(Simulation, mu=1.0)
         mu = np.full(sim.grid.cells, 1.0)
         centres = sim.grid.cell_centres()
         near = np.linalg.norm(centres - np.array([0.4, 0.5, 0.5]), axis=-1) < 0.35
@@ -59,7 +65,7 @@ def test_linear_drag_decays_a_free_flow_at_its_rate():
     grid = Grid.from_size((1.0, 1.0), (8, 8))
     sides = {"x_min": Side("outflow"), "x_max": Side("outflow"), "y_min": Side("slip"),
              "y_max": Side("slip")}  # fmt: skip
-    sim = VariableViscositySimulation(grid, Fluid(1.0, 0.0), DomainBoundary(grid, sides), [], TIGHT)
+    sim = Simulation(grid, Fluid(1.0, 0.0), DomainBoundary(grid, sides), [], TIGHT)
     sim.set_viscosity(np.zeros(grid.cells))
     sim.state.comps[0][:] = 1.0  # uniform flow along x through open ends: divergence-free
     sim.set_drag(np.full(grid.cells, 5.0))

@@ -61,10 +61,10 @@ def _warm_up_kernels() -> None:
     has no kernel cache) would skip most of a test stroke."""
     from pathlib import Path
 
-    from paintapp.replay import replay
-    from paintapp.strokes import read_strokes
+    from paintapp.session.playback import replay
+    from paintapp.strokes.files import read_strokes
 
-    replay(read_strokes(Path(__file__).resolve().parents[1] / "golden" / "grid3d_drag.jsonl"))
+    replay(read_strokes(Path(__file__).resolve().parents[1] / "session" / "golden" / "grid3d_drag.jsonl"))
 
 
 @pytest.fixture(scope="session")

@@ -12,10 +12,10 @@ import pytest
 from brushes import PaintReservoir
 from paintapp.app.options import PaintOptions
 from paintapp.app.slab import PUT_VOLUME_M3, MixingSlab
-from paintapp.canvas_io import unlit_rgba
-from paintapp.replay import replay
-from paintapp.strokes import read_strokes
-from paintapp.strokes_format import CleanBrush, LoadPigment, Marker
+from paintapp.canvas.exr import unlit_rgba
+from paintapp.session.playback import replay
+from paintapp.strokes.files import read_strokes
+from paintapp.strokes.records import CleanBrush, LoadPigment, Marker
 
 BLUE, YELLOW = "ultramarine_blue", "cadmium_yellow"
 START_M, END_M = (0.05, 0.08), (0.13, 0.08)

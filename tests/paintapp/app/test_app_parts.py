@@ -8,18 +8,18 @@ import os
 import numpy as np
 import pytest
 
+from common.errors import InputError
 from paintapp.app.haptic_link import parse_device, sample_from_state
 from paintapp.app.history import UndoHistory
 from paintapp.app.journal import Journal, make_header
 from paintapp.app.options import PaintOptions
 from paintapp.app.recovery import Recovery
 from paintapp.app.settings import PaintSettings, make_preset, scaled_preset
-from paintapp.canvas import Canvas
+from paintapp.canvas.model import Canvas
 from paintapp.cli import main
 from paintapp.haptics.device import DeviceState
-from paintapp.strokes import read_strokes
-from paintapp.strokes_format import Marker
-from solver.errors import InputError
+from paintapp.strokes.files import read_strokes
+from paintapp.strokes.records import Marker
 
 
 def _dab(canvas: Canvas, x0: int, y0: int, size: int = 8, value: float = 1e-4) -> None:
@@ -79,7 +79,7 @@ def test_journal_rotates_per_canvas(tmp_path) -> None:
 
 def test_recovery_round_trip(tmp_path) -> None:
     from paintapp.app.launch import starting_canvas
-    from paintapp.pigments import load_pigment_library
+    from paintapp.pigments.library import load_pigment_library
 
     canvas = Canvas((32, 24), (0.008, 0.006), ("ultramarine_blue",))
     _dab(canvas, 2, 2)

@@ -10,9 +10,9 @@ import pytest
 
 from paintapp.app.haptic_link import parse_device
 from paintapp.app.options import PaintOptions
-from paintapp.replay import replay
-from paintapp.strokes import read_strokes
-from paintapp.strokes_format import LoadPigment, Marker
+from paintapp.session.playback import replay
+from paintapp.strokes.files import read_strokes
+from paintapp.strokes.records import LoadPigment, Marker
 
 START_M, END_M = (0.05, 0.06), (0.13, 0.06)
 

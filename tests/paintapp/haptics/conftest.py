@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from paintapp.haptics.clock import VirtualClock
+from paintapp.haptics.devices.simulated import SimulatedDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop
-from paintapp.haptics.simulated import SimulatedDevice
 from paintapp.haptics.synthetic import ViscousDragSource
 
 

@@ -8,9 +8,9 @@ import time
 import numpy as np
 import pytest
 
+from common.errors import InputError
 from paintapp.haptics.clock import RealTimeClock, VirtualClock
 from paintapp.haptics.metrics import TimingRecorder
-from solver.errors import InputError
 
 
 def test_virtual_clock_ticks_on_schedule_and_continues() -> None:

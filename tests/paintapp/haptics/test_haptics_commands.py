@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import pytest
 
+from paintapp.bench import servo_check as check
 from paintapp.cli import main
-from paintapp.haptics import catalog, check
 from paintapp.haptics.clock import VirtualClock
-from paintapp.haptics.hid_models import PidJoystickModel, StylusDeviceModel
-from paintapp.haptics.hid_transport import HidDeviceEntry
-from paintapp.haptics.simulated import SimulatedDevice
+from paintapp.haptics.devices import catalog
+from paintapp.haptics.devices.hid_transport import HidDeviceEntry
+from paintapp.haptics.devices.simulated import SimulatedDevice
+from tests.support.hid_models import PidJoystickModel, StylusDeviceModel
 
 
 def test_devices_lists_builtins_and_says_when_no_hid_device_is_attached(

@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from common.errors import InputError
 from paintapp.haptics.filters import (
     FilterConfig,
     FirWindowFilter,
     fir_taps,
     make_filter,
 )
-from solver.errors import InputError
 
 TICK = 1e-3
 

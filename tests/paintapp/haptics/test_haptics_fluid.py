@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from common.errors import InputError
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.filters import make_filter
 from paintapp.haptics.fluid import FluidConfig, FluidForceInput
-from solver.errors import InputError
 
 DT = 1e-3
 

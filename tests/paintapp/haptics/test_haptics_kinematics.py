@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from brushes.rotation import axis_from_tilt, quat_to_matrix
+from common.errors import InputError
+from common.tilt import axis_from_tilt, quat_to_matrix
 from paintapp.haptics.contact import CanvasContact, ContactConfig
 from paintapp.haptics.device import DeviceInfo
-from paintapp.haptics.pose import quat_from_tilt_twist, tilt_twist_from_quat
+from paintapp.haptics.orientation import quat_from_tilt_twist, tilt_twist_from_quat
 from paintapp.haptics.velocity import VelocityEstimator
-from solver.errors import InputError
 
 INFO = DeviceInfo(
     "t", "t", 6, 6, max_force_n=8.0, max_stiffness_n_per_m=2000.0, max_damping_ns_per_m=10.0

@@ -107,7 +107,7 @@ def test_random_garbage_never_escapes() -> None:
 
 @pytest.mark.parametrize("name", ["ramp_time_s", "engage_fraction", "full_scale_time_s"])
 def test_config_rejects_non_positive(name: str) -> None:
-    from solver.errors import InputError
+    from common.errors import InputError
 
     with pytest.raises(InputError):
         SafetyConfig(**{name: 0.0})

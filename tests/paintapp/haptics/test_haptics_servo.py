@@ -10,9 +10,9 @@ import pytest
 from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.contact import ContactConfig
 from paintapp.haptics.device import DeviceError, DeviceInfo, DeviceState
+from paintapp.haptics.devices.simulated import SIMULATED_INFO, SimulatedDevice, hold_at
 from paintapp.haptics.fluid import FluidConfig
 from paintapp.haptics.servo import ServoConfig, ServoLoop
-from paintapp.haptics.simulated import SIMULATED_INFO, SimulatedDevice, hold_at
 
 
 class ScriptedDevice:

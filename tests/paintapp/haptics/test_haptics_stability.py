@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from paintapp.haptics.devices.simulated import SIMULATED_INFO, HandParams
 from paintapp.haptics.fluid import FluidConfig
 from paintapp.haptics.servo import ServoConfig
-from paintapp.haptics.simulated import SIMULATED_INFO, HandParams
 
 HAND = HandParams()
 F_MAX = SIMULATED_INFO.max_force_n

@@ -1,0 +1,232 @@
+"""Canvas files: OpenEXR with the picture and the paint, written atomically with OpenImageIO.
+
+Channels of a canvas EXR (image rows top to bottom, i.e. canvas row H-1 first):
+
+=====================  ========================================================================
+``R``, ``G``, ``B``    linear scene-referred colour, sRGB/Rec.709 primaries, D65 white
+``A``                  1 on the canvas
+``paint.height``       total paint thickness, metres (always 32-bit float: thin paint is ~1e-5 m)
+``paint.wetness``      wetness in [0, 1]
+``pigment.<name>``     volume fraction of each pigment, in the canvas's channel order
+=====================  ========================================================================
+
+Attributes: ``chromaticities`` (Rec.709 primaries, D65 white), ``compression`` zip, and
+``paintapp:canvas``, a JSON object ``{"format": "paintapp-canvas", "version": 1,
+"pixels": [W, H], "size_m": [w, h], "pigments": [...]}`` (plus any ``paintapp:<key>`` strings
+passed as ``metadata``). ``half`` files store every channel but the height as 16-bit floats.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+
+from common.errors import InputError
+from paintapp.atomic import atomic_path
+from paintapp.canvas.model import MAX_PIXELS, Canvas
+from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
+from paintapp.pigments.library import PigmentLibrary, load_pigment_library
+
+FORMAT_NAME = "paintapp-canvas"
+FORMAT_VERSION = 1
+META_KEY = "paintapp:canvas"
+#: Rec.709 / sRGB primaries and D65 white: (xr, yr, xg, yg, xb, yb, xw, yw).
+REC709_CHROMATICITIES = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)
+HEIGHT, WETNESS = "paint.height", "paint.wetness"
+
+
+def pigment_channel(name: str) -> str:
+    """EXR channel name of a pigment's concentration."""
+    return f"pigment.{name}"
+
+
+def unlit_rgba(canvas: Canvas, library: PigmentLibrary | None = None) -> np.ndarray:
+    """Unlit Kubelka-Munk colour of a canvas (CPU), (H, W, 4) float32, row 0 = bottom."""
+    table = canvas_band_table(canvas, library or load_pigment_library())
+    rgba = np.ones((canvas.height, canvas.width, 4), np.float32)
+    step = max(1, (1 << 20) // canvas.width)
+    for r0 in range(0, canvas.height, step):
+        rows = slice(r0, min(canvas.height, r0 + step))
+        rgba[rows, :, :3] = canvas_linear_rgb(canvas, table, rows)
+    return rgba
+
+
+def _pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
+    """(H, W, C) float32 with rows top first: RGBA, height, wetness, concentrations."""
+    height = canvas.height_m
+    channels = [rgba[..., i] for i in range(4)] + [height, canvas.wetness]
+    channels += list(canvas.concentration)
+    return np.ascontiguousarray(np.stack(channels, axis=-1)[::-1])
+
+
+def write_canvas_exr(
+    path: str | Path,
+    canvas: Canvas,
+    rgba: np.ndarray | None = None,
+    *,
+    half: bool = True,
+    library: PigmentLibrary | None = None,
+    metadata: Mapping[str, str] | None = None,
+) -> None:
+    """Write a canvas EXR atomically (see the module docstring for the layout).
+
+    Args:
+        path: output file (``.exr``).
+        canvas: the canvas.
+        rgba: the picture, linear RGBA (H, W, 4), row 0 = canvas bottom (e.g. a lit render);
+            default the unlit Kubelka-Munk colour computed on the CPU.
+        half: 16-bit float channels (the height stays 32-bit); False writes 32-bit everywhere.
+        library: pigments for the default picture.
+        metadata: extra string attributes, stored as ``paintapp:<key>``.
+    """
+    if rgba is None:
+        rgba = unlit_rgba(canvas, library)
+    rgba = np.asarray(rgba, np.float32)
+    if rgba.shape != (canvas.height, canvas.width, 4):
+        raise ValueError(
+            f"rgba must have shape {(canvas.height, canvas.width, 4)}, got {rgba.shape}"
+        )
+    pixels = _pixels(canvas, np.nan_to_num(rgba, nan=0.0, posinf=65504.0, neginf=-65504.0))
+    names = ("R", "G", "B", "A", HEIGHT, WETNESS, *map(pigment_channel, canvas.pigment_names))
+    spec = oiio.ImageSpec(canvas.width, canvas.height, len(names), "float")
+    spec.channelnames = names
+    small = oiio.HALF if half else oiio.FLOAT
+    spec.channelformats = tuple(oiio.FLOAT if n == HEIGHT else small for n in names)
+    spec.attribute("compression", "zip")
+    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"), REC709_CHROMATICITIES)
+    info = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "pixels": list(canvas.pixels),
+        "size_m": list(canvas.size_m),
+        "pigments": list(canvas.pigment_names),
+    }
+    spec.attribute(META_KEY, json.dumps(info))
+    for key, value in (metadata or {}).items():
+        spec.attribute(f"paintapp:{key}", str(value))
+    with atomic_path(path) as tmp:
+        _write_image(tmp, spec, pixels)
+
+
+def _write_image(path: Path, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:
+    """Write one image with OpenImageIO; raises OSError with OIIO's message on failure."""
+    out = oiio.ImageOutput.create(str(path))
+    if out is None:
+        raise OSError(f"cannot create an image writer for {path}: {oiio.geterror()}")
+    try:
+        if not out.open(str(path), spec):
+            raise OSError(f"cannot open {path} for writing: {out.geterror()}")
+        if not out.write_image(pixels):
+            raise OSError(f"cannot write {path}: {out.geterror()}")
+    finally:
+        out.close()
+
+
+def _read_info(spec: oiio.ImageSpec, source: str) -> dict:
+    raw = spec.getattribute(META_KEY)
+    if not isinstance(raw, str):
+        raise InputError("not a paintapp canvas: no paintapp:canvas metadata", source, META_KEY)
+    try:
+        info = json.loads(raw)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"malformed JSON: {exc}", source, META_KEY) from exc
+    if not isinstance(info, dict) or info.get("format") != FORMAT_NAME:
+        raise InputError(f"expected format {FORMAT_NAME!r}", source, META_KEY)
+    if info.get("version") != FORMAT_VERSION:
+        raise InputError(f"unsupported version {info.get('version')!r}", source, META_KEY)
+    size = info.get("size_m")
+    pigments = info.get("pigments")
+    if not (isinstance(size, list) and len(size) == 2 and isinstance(pigments, list)):
+        raise InputError("expected size_m [w, h] and a pigments list", source, META_KEY)
+    return info
+
+
+def _channel_data(spec, pixels: np.ndarray, names: list[str], source: str) -> list[np.ndarray]:
+    present = list(spec.channelnames)
+    out = []
+    for name in names:
+        if name not in present:
+            raise InputError(f"missing channel; expected channels {names}", source, key=name)
+        out.append(pixels[::-1, :, present.index(name)])
+    return out
+
+
+def read_canvas_exr(path: str | Path) -> Canvas:
+    """Load a canvas written by :func:`write_canvas_exr`; malformed files raise InputError."""
+    source = str(path)
+    spec, pixels = _read_image(Path(path))
+    info = _read_info(spec, source)
+    if info.get("pixels") != [spec.width, spec.height]:
+        raise InputError(
+            f"metadata says {info.get('pixels')} pixels, image is {spec.width}x{spec.height}",
+            source,
+            META_KEY,
+        )
+    names = [str(n) for n in info["pigments"]]
+    height, wetness, *conc = _channel_data(
+        spec, pixels, [HEIGHT, WETNESS, *map(pigment_channel, names)], source
+    )
+    bad = int(np.count_nonzero(~np.isfinite(pixels[..., 4:])))
+    if bad:
+        raise InputError(f"{bad} non-finite value(s) in the paint channels", source)
+    if np.any(height < 0) or any(np.any((c < 0) | (c > 1.001)) for c in conc):
+        raise InputError("paint height must be >= 0 and concentrations in [0, 1]", source, HEIGHT)
+    if np.any((wetness < 0) | (wetness > 1.001)):
+        raise InputError("wetness must be in [0, 1]", source, WETNESS)
+    conc = np.stack(conc).reshape(len(names), spec.height, spec.width)
+    total = conc.sum(axis=0)
+    # Renormalise (16-bit fractions need not sum to 1) so the 32-bit height survives exactly.
+    paint = conc * np.where(total > 0, height / np.where(total > 0, total, 1.0), 0.0)
+    try:
+        return Canvas(
+            pixels=(spec.width, spec.height),
+            size_m=(float(info["size_m"][0]), float(info["size_m"][1])),
+            pigment_names=tuple(names),
+            paint_m=paint.astype(np.float32),
+            wetness=np.minimum(wetness, 1.0),
+        )
+    except InputError as exc:
+        raise InputError(exc.message, source, exc.key) from exc
+
+
+def read_exr_rgba(path: str | Path) -> np.ndarray:
+    """The RGBA picture of an EXR, (H, W, 4) float32, row 0 = bottom (A = 1 if absent)."""
+    spec, pixels = _read_image(Path(path))
+    present = list(spec.channelnames)
+    rgba = np.ones((spec.height, spec.width, 4), np.float32)
+    for i, name in enumerate("RGBA"):
+        if name in present:
+            rgba[..., i] = pixels[::-1, :, present.index(name)]
+        elif name != "A":
+            raise InputError(f"missing channel; expected R, G, B (got {present})", str(path), name)
+    return rgba
+
+
+def _read_image(path: Path) -> tuple[oiio.ImageSpec, np.ndarray]:
+    """(spec, pixels (H, W, C) float32, top row first) of the first subimage of an EXR."""
+    source = str(path)
+    if not path.is_file():
+        raise InputError("no such file", source)
+    inp = oiio.ImageInput.open(source)
+    if inp is None:
+        raise InputError(f"cannot read image: {oiio.geterror()}", source)
+    try:
+        spec = inp.spec()
+        if inp.format_name() != "openexr":
+            raise InputError(f"expected an OpenEXR file, got {inp.format_name()}", source)
+        if spec.x != 0 or spec.y != 0 or spec.deep:
+            raise InputError("expected a flat image with its data window at (0, 0)", source)
+        if not (1 <= spec.width <= MAX_PIXELS and 1 <= spec.height <= MAX_PIXELS):
+            raise InputError(
+                f"image is {spec.width}x{spec.height}; canvases are at most {MAX_PIXELS}", source
+            )
+        pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+        if pixels is None:
+            raise InputError(f"cannot decode pixels: {inp.geterror()}", source)
+    finally:
+        inp.close()
+    return spec, np.asarray(pixels, np.float32).reshape(spec.height, spec.width, spec.nchannels)

@@ -1,0 +1,217 @@
+"""A simulated haptic device: a hand holding a 6-DOF stylus, headless and deterministic.
+
+The hand is a mass-spring-damper pulled toward a target trajectory (where the painter means the
+tip to be); the force the device writes acts back on it, so the closed loop of hand, device and
+fluid force is physical. Rotation is modelled the same way for small angular deviations from a
+target orientation, driven by the written torque. Between calls the last written force is held,
+as a device's amplifier holds it, and the motion is integrated in substeps (semi-implicit Euler).
+
+Time comes from ``time_source`` (a clock's ``now_s``): a :class:`VirtualClock` makes a run exactly
+repeatable, a :class:`RealTimeClock` makes the hand move in real time. The target trajectory's
+time starts at zero when the device is opened.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from common.tilt import quat_multiply
+from paintapp.haptics.device import DeviceError, DeviceInfo, DeviceState
+from paintapp.haptics.orientation import quat_from_tilt_twist
+
+Target = Callable[[float], tuple[np.ndarray, np.ndarray]]
+"""Target trajectory: time in s -> (position m (3,), velocity m/s (3,))."""
+
+SIMULATED_INFO = DeviceInfo(
+    name="simulated 6-DOF stylus",
+    kind="simulated",
+    dof_sensed=6,
+    dof_actuated=6,
+    max_force_n=8.0,
+    max_torque_nm=0.4,
+    max_stiffness_n_per_m=2000.0,
+    max_damping_ns_per_m=10.0,
+    workspace_m=(0.4, 0.3, 0.2),
+)
+
+
+@dataclass(frozen=True)
+class HandParams:
+    """The hand's grip, as a mass-spring-damper toward the target (typical human values).
+
+    Attributes:
+        mass_kg: effective mass of hand and stylus.
+        stiffness_n_per_m: grip stiffness toward the target.
+        damping_ns_per_m: grip damping.
+        inertia_kg_m2: rotational inertia about the tip.
+        rot_stiffness_nm_per_rad: rotational grip stiffness.
+        rot_damping_nms_per_rad: rotational grip damping.
+    """
+
+    mass_kg: float = 0.25
+    stiffness_n_per_m: float = 300.0
+    damping_ns_per_m: float = 3.0
+    inertia_kg_m2: float = 2e-4
+    rot_stiffness_nm_per_rad: float = 1.0
+    rot_damping_nms_per_rad: float = 0.01
+
+
+def circle_stroke(
+    center_m: tuple[float, float, float] = (0.0, 0.0, -0.002),
+    radius_m: float = 0.03,
+    period_s: float = 1.0,
+    hover_m: float = 0.01,
+    approach_s: float = 0.3,
+) -> Target:
+    """A stirring stroke: the tip comes down from ``hover_m`` above the canvas to the circle's
+    height over ``approach_s`` (a half-cosine), while going round a horizontal circle of
+    ``radius_m`` about ``center_m`` at constant speed."""
+    c = np.asarray(center_m, dtype=np.float64)
+    w = 2.0 * math.pi / period_s
+
+    def target(t_s: float) -> tuple[np.ndarray, np.ndarray]:
+        s, co = math.sin(w * t_s), math.cos(w * t_s)
+        pos = c + radius_m * np.array([co, s, 0.0])
+        vel = radius_m * w * np.array([-s, co, 0.0])
+        if t_s < approach_s:
+            phase = math.pi * max(t_s, 0.0) / approach_s
+            lift = hover_m - c[2]
+            pos[2] += lift * 0.5 * (1.0 + math.cos(phase))
+            vel[2] = -lift * 0.5 * math.sin(phase) * math.pi / approach_s
+        return pos, vel
+
+    return target
+
+
+def hold_at(position_m: tuple[float, float, float]) -> Target:
+    """A target that stays put."""
+    p = np.asarray(position_m, dtype=np.float64)
+    return lambda _t: (p, np.zeros(3))
+
+
+class SimulatedDevice:
+    """A simulated stylus in a simulated hand (implements :class:`HapticDevice`).
+
+    Args:
+        time_source: returns the current time in seconds.
+        target: where the hand wants the tip; :func:`circle_stroke` by default.
+        hand: the hand's parameters.
+        info: the device's limits; :data:`SIMULATED_INFO` by default.
+        tilt_rad: the target stylus tilt (2,), radians.
+        substep_s: integration substep.
+    """
+
+    def __init__(
+        self,
+        time_source: Callable[[], float],
+        target: Target | None = None,
+        hand: HandParams | None = None,
+        info: DeviceInfo | None = None,
+        tilt_rad: tuple[float, float] = (0.3, 0.0),
+        substep_s: float = 5e-4,
+    ) -> None:
+        self.time_source = time_source
+        self.target = target or circle_stroke()
+        self.hand = hand or HandParams()
+        self._info = info or SIMULATED_INFO
+        self._target_q = quat_from_tilt_twist(np.asarray(tilt_rad), 0.0)
+        self.substep_s = float(substep_s)
+        self.is_open = False
+        self.max_force_written_n = 0.0
+        self.nonfinite_writes = 0
+        self._t_s = self._t0_s = 0.0
+        self._x = np.zeros(3)
+        self._v = np.zeros(3)
+        self._theta = np.zeros(3)
+        self._omega = np.zeros(3)
+        self._force = np.zeros(3)
+        self._torque = np.zeros(3)
+
+    @property
+    def info(self) -> DeviceInfo:
+        return self._info
+
+    def open(self) -> None:
+        self._t_s = self._t0_s = self.time_source()
+        self._x, _ = self.target(0.0)
+        self._x = np.array(self._x, dtype=np.float64)
+        self._v = np.zeros(3)
+        self._theta, self._omega = np.zeros(3), np.zeros(3)
+        self._force, self._torque = np.zeros(3), np.zeros(3)
+        self.is_open = True
+
+    def close(self) -> None:
+        self._force, self._torque = np.zeros(3), np.zeros(3)
+        self.is_open = False
+
+    def _substep(self, t_s: float, h: float) -> None:
+        p = self.hand
+        xt, vt = self.target(t_s)
+        acc = p.stiffness_n_per_m * (xt - self._x) + p.damping_ns_per_m * (vt - self._v)
+        self._v = self._v + h * (acc + self._force) / p.mass_kg
+        self._x = self._x + h * self._v
+        alpha = (
+            -p.rot_stiffness_nm_per_rad * self._theta
+            - p.rot_damping_nms_per_rad * self._omega
+            + self._torque
+        ) / p.inertia_kg_m2
+        self._omega = self._omega + h * alpha
+        self._theta = self._theta + h * self._omega
+
+    def advance(self, t_s: float) -> None:
+        """Integrate the hand up to time ``t_s`` with the last written force held."""
+        dt = t_s - self._t_s
+        if dt <= 0.0:
+            return
+        n = min(max(1, math.ceil(dt / self.substep_s - 1e-9)), 800)
+        h = dt / n
+        for i in range(n):
+            self._substep(self._t_s + (i + 1) * h, h)
+        self._t_s = t_s
+
+    def orientation_wxyz(self) -> np.ndarray:
+        """The stylus orientation: the target orientation turned by the hand's deviation."""
+        dq = np.concatenate([[1.0], 0.5 * self._theta])
+        q = quat_multiply(self._target_q, dq / np.linalg.norm(dq))
+        return q if q[0] >= 0 else -q
+
+    def read(self) -> DeviceState:
+        if not self.is_open:
+            raise DeviceError("simulated device is not open")
+        self.advance(self.time_source())
+        return DeviceState(self._t_s, self._x.copy(), self.orientation_wxyz())
+
+    def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:
+        if not self.is_open:
+            raise DeviceError("simulated device is not open")
+        if not (np.all(np.isfinite(force_n)) and np.all(np.isfinite(torque_nm))):
+            self.nonfinite_writes += 1
+            force_n, torque_nm = np.zeros(3), np.zeros(3)
+        self._force = np.array(force_n, dtype=np.float64)
+        self._torque = np.array(torque_nm, dtype=np.float64)
+        self.max_force_written_n = max(self.max_force_written_n, float(np.linalg.norm(force_n)))
+
+    def energy_j(self) -> float:
+        """Mechanical energy of the hand's deviation from its target, J (kinetic + grip spring)."""
+        p = self.hand
+        xt, vt = self.target(self._t_s - self._t0_s)
+        dv, dx = self._v - vt, self._x - xt
+        linear = 0.5 * p.mass_kg * float(dv @ dv) + 0.5 * p.stiffness_n_per_m * float(dx @ dx)
+        angular = 0.5 * p.inertia_kg_m2 * float(self._omega @ self._omega)
+        return (
+            linear + angular + 0.5 * p.rot_stiffness_nm_per_rad * float(self._theta @ self._theta)
+        )
+
+    @property
+    def position_m(self) -> np.ndarray:
+        """Current tip position, m, shape (3,)."""
+        return self._x.copy()
+
+    @property
+    def velocity_m_per_s(self) -> np.ndarray:
+        """Current tip velocity (ground truth, for tests), m/s, shape (3,)."""
+        return self._v.copy()

@@ -1,0 +1,265 @@
+"""Painting scenes: which paint model runs and with what paint, as TOML files under
+``assets/painting/`` (named by the file stem; a stroke file's header names one, ``null`` is
+``default``).
+
+A scene file::
+
+    description = "Oil paint, full 3D paint grid"
+    fluid_model = "grid3d"          # grid3d | depth_averaged | none | auto
+
+    [grid]
+    cells = [32, 32, 12]            # 3D cells; depth_averaged uses the first two
+    span = 2.0                      # the grid spans this many brush widths (sets the cell size)
+    margin_cells = 10               # re-centre once the tip is this close to a side
+    max_step_s = 0.05               # longest single solver step; longer gaps are split
+
+    [paint]
+    density_kg_m3 = 1400.0
+    viscosity_pa_s = 20.0           # oil paint is ~10-100 Pa s (water: 0.001)
+    air_viscosity_ratio = 1e-3      # the air above the paint, relative to the paint
+    drying_rate_per_s = 0.01        # wetness decays as exp(-rate t)
+    max_height_m = 0.002            # depth_averaged: tallest wet column a cell holds
+
+    [brush]
+    pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
+    deposit_length_m = 0.04         # a loaded brush lays 1/e of its load over this stroke length
+
+    [solver]                        # optional
+    pressure_tolerance = 1e-5
+    viscosity_tolerance = 1e-6
+    max_iterations = 400
+
+    [choose]                        # optional: what the app may leave out (paintapp.paint.choice)
+    thin_below_m = 2e-4             # auto: depth-averaged while the paint layer is thinner...
+    thick_above_m = 3e-4            # ...and the 3D grid again once it is thicker (hysteresis)
+    dry_brush = true                # no fluid for an empty brush over dry canvas
+    fit_grid = false                # size the grid to the brush's footprint, not [grid] cells
+    used_pigments = true            # carry only the pigments in use through the grid
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from common.errors import InputError
+from common.tables import Table
+from paintapp.resources import asset_path
+from solver.simulation import SolverSettings
+
+#: The paint models.
+FLUID_MODELS = ("grid3d", "depth_averaged", "none")
+#: What a scene's ``fluid_model`` may say: a model, or ``auto`` (chosen per sample).
+SCENE_FLUID_MODELS = (*FLUID_MODELS, "auto")
+DEFAULT_SCENE = "default"
+MAX_CELLS = 200_000
+
+
+@dataclass(frozen=True)
+class ModelChoice:
+    """What the app may leave out of the model (see :mod:`paintapp.paint.choice`).
+
+    Attributes:
+        thin_below_m: ``fluid_model = "auto"``: the depth-averaged grid runs while the wet paint
+            layer under the brush is thinner than this (m)...
+        thick_above_m: ...and the 3D grid again once it is thicker than this (m, >= thin).
+        dry_brush: an empty brush over a window with no wet paint takes no fluid steps.
+        fit_grid: size the grid to the brush's footprint (fewer cells than ``cells``, same
+            cell size) instead of always using ``cells``.
+        used_pigments: move only the pigment channels in use (in the window or the brush).
+    """
+
+    thin_below_m: float = 2e-4
+    thick_above_m: float = 3e-4
+    dry_brush: bool = True
+    fit_grid: bool = False
+    used_pigments: bool = True
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.thin_below_m <= self.thick_above_m:
+            raise InputError(
+                "expected 0 <= thin_below_m <= thick_above_m, got "
+                f"{self.thin_below_m:g} and {self.thick_above_m:g}",
+                key="choose",
+            )
+
+
+#: Everything modelled everywhere: no choice left to the app (the baseline of the savings).
+FULL_MODEL = ModelChoice(dry_brush=False, fit_grid=False, used_pigments=False)
+
+
+@dataclass(frozen=True)
+class PaintScene:
+    """A validated painting scene (see the module docstring for the file; SI units).
+
+    Attributes:
+        name: the scene's name (file stem).
+        fluid_model: ``"grid3d"`` (3D paint grid riding with the tip), ``"depth_averaged"``
+            (2D grid in the canvas plane, paper section 5.2), ``"none"`` (no fluid: the brush
+            stamps and soaks paint directly, and feels no fluid force) or ``"auto"`` (grid3d or
+            depth_averaged by the paint layer's thickness, see ``choose``).
+        cells: (nx, ny, nz) cells of the 3D grid; the depth-averaged grid uses (nx, ny).
+        span: lateral grid extent in brush widths; with the canvas texel size it sets the cell
+            size (a whole number of texels, see :func:`paintapp.paint.columns.cell_texels`).
+        margin_cells: the grid re-centres when the tip is closer than this to a lateral side.
+        max_step_s: longest solver step, s; a longer gap between stylus samples is split.
+        density_kg_m3, viscosity_pa_s: the paint's density and dynamic viscosity.
+        air_viscosity_ratio: viscosity of the paint-free cells relative to the paint (3D grid).
+        drying_rate_per_s: wetness decay rate, 1/s.
+        max_height_m: tallest wet paint column a depth-averaged cell accepts from the brush, m.
+        pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
+            step (limited by the brush's free room); the rest is pushed aside.
+        deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
+        solver: solver settings.
+        description: free text.
+        choose: what the app may leave out (:class:`ModelChoice`).
+    """
+
+    name: str = DEFAULT_SCENE
+    fluid_model: str = "grid3d"
+    cells: tuple[int, int, int] = (32, 32, 12)
+    span: float = 2.0
+    margin_cells: int = 10
+    max_step_s: float = 0.05
+    density_kg_m3: float = 1400.0
+    viscosity_pa_s: float = 20.0
+    air_viscosity_ratio: float = 1e-3
+    drying_rate_per_s: float = 0.01
+    max_height_m: float = 0.002
+    pickup_fraction: float = 0.3
+    deposit_length_m: float = 0.04
+    solver: SolverSettings = field(
+        default_factory=lambda: SolverSettings(
+            pressure_tolerance=1e-5, viscosity_tolerance=1e-6, max_iterations=400
+        )
+    )
+    description: str = ""
+    choose: ModelChoice = field(default_factory=ModelChoice)
+
+    def __post_init__(self) -> None:
+        if self.fluid_model not in SCENE_FLUID_MODELS:
+            raise InputError(
+                f"expected one of {', '.join(SCENE_FLUID_MODELS)}, got {self.fluid_model!r}",
+                key="fluid_model",
+            )
+        nx, ny, nz = self.cells
+        too_flat = self.fluid_model in ("grid3d", "auto") and nz < 3
+        if min(nx, ny) < 8 or too_flat or nx * ny * nz > MAX_CELLS:
+            raise InputError(
+                f"expected at least 8x8 (3D: 8x8x3) and at most {MAX_CELLS} cells, got {self.cells}",
+                key="grid.cells",
+            )
+        if not 0 <= self.margin_cells < min(nx, ny) // 2:
+            raise InputError("expected 0 <= margin_cells < half the grid", key="grid.margin_cells")
+
+    @property
+    def air_viscosity_pa_s(self) -> float:
+        """Dynamic viscosity of the paint-free cells, Pa s."""
+        return self.viscosity_pa_s * self.air_viscosity_ratio
+
+
+def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintScene:
+    """Validate a parsed scene table; :class:`InputError` names the file and key."""
+    top = Table(data, source, "")
+    description = top.string("description", "")
+    model = top.string("fluid_model", "grid3d", choices=SCENE_FLUID_MODELS)
+    grid, paint = top.table("grid", {}), top.table("paint", {})
+    brush, solver = top.table("brush", {}), top.table("solver", {})
+    choose = top.table("choose", {})
+    cells = grid.raw("cells", [32, 32, 12])
+    if not (
+        isinstance(cells, list) and len(cells) == 3 and all(type(c) is int and c > 0 for c in cells)
+    ):
+        raise grid.error("cells", f"expected three positive integers, got {cells!r}")
+    scene = PaintScene(
+        name=name,
+        fluid_model=model,
+        cells=(cells[0], cells[1], cells[2]),
+        span=grid.number("span", 2.0, minimum=1.0, maximum=8.0),
+        margin_cells=grid.integer("margin_cells", 10, minimum=0),
+        max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),
+        density_kg_m3=paint.number("density_kg_m3", 1400.0, minimum=1.0, maximum=1e5),
+        viscosity_pa_s=paint.number("viscosity_pa_s", 20.0, minimum=1e-4, maximum=1e4),
+        air_viscosity_ratio=paint.number("air_viscosity_ratio", 1e-3, minimum=1e-6, maximum=1.0),
+        drying_rate_per_s=paint.number("drying_rate_per_s", 0.01, minimum=0.0, maximum=100.0),
+        max_height_m=paint.number(
+            "max_height_m", 0.002, minimum=1e-5, exclusive=True, maximum=0.05
+        ),
+        pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
+        deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
+        solver=SolverSettings(
+            pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
+            viscosity_tolerance=solver.number("viscosity_tolerance", 1e-6, minimum=1e-12),
+            max_iterations=solver.integer("max_iterations", 400, minimum=1),
+        ),
+        description=description,
+        choose=parse_choice(choose),
+    )
+    for table in (grid, paint, brush, solver, choose, top):
+        table.finish()
+    return scene
+
+
+def _flag(table: Table, name: str, default: bool) -> bool:
+    value = table.raw(name, default)
+    if not isinstance(value, bool):
+        raise table.error(name, f"expected true or false, got {value!r}")
+    return value
+
+
+def parse_choice(table: Table) -> ModelChoice:
+    """The scene's ``[choose]`` table (every key optional)."""
+    thin = table.number("thin_below_m", 2e-4, minimum=0.0, maximum=0.05)
+    thick = table.number("thick_above_m", max(thin, 3e-4), minimum=0.0, maximum=0.05)
+    if thick < thin:
+        raise table.error("thick_above_m", f"expected >= thin_below_m ({thin:g}), got {thick:g}")
+    return ModelChoice(
+        thin_below_m=thin,
+        thick_above_m=thick,
+        dry_brush=_flag(table, "dry_brush", True),
+        fit_grid=_flag(table, "fit_grid", False),
+        used_pigments=_flag(table, "used_pigments", True),
+    )
+
+
+def load_paint_scene_file(path: str | Path) -> PaintScene:
+    """Read and validate a scene file; its name is the file stem."""
+    path = Path(path)
+    source = str(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError("no such painting scene file", source) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the painting scene: {exc}", source) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not valid TOML: {exc}", source) from None
+    try:
+        return parse_paint_scene(data, path.stem, source)
+    except InputError as exc:
+        raise InputError(exc.message, exc.source or source, exc.key, exc.line) from None
+
+
+def scene_directory() -> Path:
+    """Where the bundled painting scenes live."""
+    return asset_path("painting")
+
+
+def list_paint_scenes() -> list[str]:
+    """Names of the bundled painting scenes."""
+    return sorted(p.stem for p in scene_directory().glob("*.toml"))
+
+
+def load_paint_scene(name_or_path: str | Path | None = None) -> PaintScene:
+    """A bundled scene by name (None: ``default``), or a scene file when given a ``.toml`` path."""
+    if name_or_path is None:
+        name_or_path = DEFAULT_SCENE
+    text = str(name_or_path)
+    if text.endswith(".toml"):
+        return load_paint_scene_file(text)
+    path = scene_directory() / f"{text}.toml"
+    if not path.is_file():
+        known = ", ".join(list_paint_scenes()) or "none"
+        raise InputError(f"unknown painting scene {text!r}; known scenes: {known}", key="scene")
+    return load_paint_scene_file(path)

@@ -1,0 +1,112 @@
+"""Files a replay writes: the canvas EXR and PNG preview, the force trace as CSV, and its plot.
+
+Forces CSV: a header row naming the columns (:data:`paintapp.session.playback.FORCE_COLUMNS`: time in s,
+then force x, y, z in N and torque x, y, z in N m, canvas frame), then one row per servo tick.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from common.errors import InputError
+from paintapp.atomic import atomic_path
+from paintapp.canvas.exr import unlit_rgba, write_canvas_exr
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.preview import write_preview_png
+from paintapp.pigments.library import PigmentLibrary, load_pigment_library
+from paintapp.session.playback import FORCE_COLUMNS
+
+
+def write_forces_csv(path: str | Path, forces: np.ndarray) -> None:
+    """Write a force trace (ticks, 7) as CSV (header row, one row per tick), atomically."""
+    forces = np.asarray(forces, dtype=float).reshape(-1, len(FORCE_COLUMNS))
+    if not np.all(np.isfinite(forces)):
+        raise ValueError("a force trace must be finite")
+    out = io.StringIO()
+    out.write(",".join(FORCE_COLUMNS) + "\n")
+    for row in forces:
+        out.write(",".join(f"{v:.9g}" for v in row) + "\n")
+    with atomic_path(path) as tmp:
+        tmp.write_text(out.getvalue(), encoding="utf-8")
+
+
+def read_forces_csv(path: str | Path) -> np.ndarray:
+    """Read a forces CSV back as (ticks, 7); :class:`InputError` on a malformed file."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read the forces file: {exc}", source) from None
+    rows = list(csv.reader(io.StringIO(text)))
+    if not rows or tuple(rows[0]) != FORCE_COLUMNS:
+        raise InputError(f"expected the header {','.join(FORCE_COLUMNS)}", source, line=1)
+    try:
+        data = np.array([[float(v) for v in row] for row in rows[1:]], dtype=float)
+    except ValueError as exc:
+        raise InputError(f"expected numbers: {exc}", source) from None
+    return data.reshape(-1, len(FORCE_COLUMNS))
+
+
+def canvas_picture(
+    canvas: Canvas, library: PigmentLibrary | None = None, *, lit: bool = True
+) -> np.ndarray:
+    """Linear RGBA (H, W, 4) of the canvas: the lit GPU render, or the unlit CPU colour when
+    ``lit`` is False or no OpenGL context can be made (a note goes to stderr then)."""
+    library = library or load_pigment_library()
+    if lit:
+        from paintapp.render import RenderUnavailable, render_canvas_rgba
+
+        try:
+            return render_canvas_rgba(canvas, library)
+        except RenderUnavailable as exc:
+            print(f"note: {exc}; writing the unlit colour instead", file=sys.stderr)
+    return unlit_rgba(canvas, library)
+
+
+def write_canvas_outputs(
+    canvas: Canvas,
+    exr: str | Path | None,
+    preview: str | Path | None = None,
+    *,
+    lit: bool = True,
+    half: bool = True,
+) -> None:
+    """Write the canvas EXR and/or a PNG preview (one picture for both)."""
+    if exr is None and preview is None:
+        return
+    rgba = canvas_picture(canvas, lit=lit)
+    if exr is not None:
+        write_canvas_exr(exr, canvas, rgba, half=half)
+    if preview is not None:
+        write_preview_png(preview, rgba)
+
+
+def plot_forces(path: str | Path, forces: np.ndarray, title: str = "force on the brush") -> None:
+    """Plot a force trace (force components and magnitude; torque components) to a PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    forces = np.asarray(forces, dtype=float).reshape(-1, len(FORCE_COLUMNS))
+    t = forces[:, 0]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6), sharex=True, constrained_layout=True)
+    for i, name in enumerate("xyz"):
+        top.plot(t, forces[:, 1 + i], lw=0.8, label=f"F{name}")
+        bottom.plot(t, 1e3 * forces[:, 4 + i], lw=0.8, label=f"τ{name}")
+    top.plot(t, np.linalg.norm(forces[:, 1:4], axis=1), "k", lw=1.0, label="|F|")
+    top.set_ylabel("force written to the device (N)")
+    bottom.set_ylabel("torque (mN m)")
+    bottom.set_xlabel("time (s)")
+    top.set_title(title)
+    for ax in (top, bottom):
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper right", fontsize=8, ncol=4)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)

@@ -1,0 +1,216 @@
+"""Replaying a stroke file: the same path as live painting, on a virtual clock.
+
+Stylus samples go from the file to the :class:`~paintapp.session.painting.PaintingSession` (as a tablet's
+would): tip pose, paint grid, canvas, and a force sample published to the force channel at each
+sample's time. The force path is the haptic servo loop (:class:`~paintapp.haptics.servo.ServoLoop`)
+driving a :class:`~paintapp.haptics.devices.stroke_player.ReplayDevice` that plays the same samples, ticking at
+1 kHz on a :class:`~paintapp.haptics.clock.VirtualClock`: after the session handles the sample at
+``t_k`` the loop runs every tick in ``[t_k, t_k+1)``, so each tick sees exactly the force samples
+published before it. Nothing depends on wall time, so a replay is deterministic: the same file
+gives the same canvas and the same force trace.
+
+The force trace is the loop's tick log: per tick, its time and the force and torque *written to
+the device* (filtered, scaled by the force scale, made safe), in the canvas frame.
+
+The device the replay plays on is a simulated 6-DOF stylus by default; ``device`` names another
+(:data:`REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
+then models no more than that device reads. ``fidelity`` replays with the fluid settings of a
+preset (:mod:`paintapp.paint.fidelity`) applied on top of the scene.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from brushes import StylusSample
+from common.errors import InputError
+from paintapp.canvas.model import Canvas
+from paintapp.haptics.channel import ForceChannel
+from paintapp.haptics.clock import VirtualClock
+from paintapp.haptics.device import DeviceInfo
+from paintapp.haptics.devices.simulated import SIMULATED_INFO
+from paintapp.haptics.devices.stroke_player import ReplayDevice
+from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
+from paintapp.paint import PaintScene, load_paint_scene
+from paintapp.paint.fidelity import apply_fidelity
+from paintapp.session.painting import PaintingSession
+from paintapp.strokes.files import StrokeFile, StrokeHeader
+
+#: Columns of a force trace (and of the forces CSV).
+FORCE_COLUMNS = (
+    "time_s",
+    "force_x_n",
+    "force_y_n",
+    "force_z_n",
+    "torque_x_nm",
+    "torque_y_nm",
+    "torque_z_nm",
+)
+
+
+#: Devices a replay can play on, by name: what they output decides what the session models.
+REPLAY_DEVICES: dict[str, DeviceInfo] = {
+    "6dof": SIMULATED_INFO,
+    "3dof": replace(
+        SIMULATED_INFO, name="simulated 3-DOF stylus", dof_actuated=3, max_torque_nm=0.0
+    ),
+    "tablet": replace(
+        SIMULATED_INFO, name="pen tablet (no force feedback)", dof_actuated=0,
+        max_force_n=0.0, max_torque_nm=0.0,
+    ),
+}  # fmt: skip
+
+
+def replay_device(name: str) -> DeviceInfo:
+    """The replay device called ``name``; :class:`InputError` for an unknown one."""
+    if name not in REPLAY_DEVICES:
+        raise InputError(
+            f"unknown device {name!r}; expected one of {', '.join(REPLAY_DEVICES)}", key="device"
+        )
+    return REPLAY_DEVICES[name]
+
+
+class ServoForcePath:
+    """The replay's force path: a servo loop on a virtual clock playing the stroke's samples.
+
+    Args:
+        samples: the stroke's stylus samples (at least one).
+        channel: the force channel the session publishes into.
+        config: servo configuration (tick, filter, force scale, safety).
+        source: the stroke file's name, for messages.
+        info: the capabilities the replayed device claims (default: a simulated 6-DOF stylus).
+    """
+
+    def __init__(
+        self,
+        samples: Sequence[StylusSample],
+        channel: ForceChannel,
+        config: ServoConfig | None = None,
+        source: str | None = None,
+        info: DeviceInfo | None = None,
+    ) -> None:
+        self.config = config or ServoConfig()
+        self.t0_s = float(samples[0].t_s)
+        self.clock = VirtualClock(self.config.tick_s, start_s=self.t0_s)
+        self.device = ReplayDevice(samples, self.clock.now_s, source=source, info=info)
+        self.servo = ServoLoop(self.device, channel, self.config)
+        self.servo.open()
+
+    @property
+    def ticks(self) -> int:
+        """Ticks run so far."""
+        return len(self.servo.log)
+
+    def run_until(self, t_s: float | None) -> None:
+        """Run every tick before ``t_s`` (None: to the end of the stroke's playback)."""
+        if self.servo.finished or self.servo.device_fault is not None:
+            return
+        tick = self.config.tick_s
+        if t_s is None:
+            target = math.ceil(self.device.duration_s / tick) + 1
+        else:
+            target = math.ceil((t_s - self.t0_s) / tick - 1e-9)
+        if target > self.ticks:
+            self.servo.run(self.clock, max_ticks=target - self.ticks)
+
+    def close(self) -> ServoReport:
+        """Close the loop (zero force to the device) and return its report."""
+        report = self.servo.report()
+        self.servo.close()
+        return report
+
+    def trace(self) -> np.ndarray:
+        """(ticks, 7): time (s), force (N) and torque (N m) written to the device each tick."""
+        log = self.servo.log.arrays()
+        return np.column_stack([log["t_s"], log["force_n"], log["torque_nm"]])
+
+
+@dataclass
+class ReplayResult:
+    """A finished replay: the painted canvas, the session, the force trace and the servo report."""
+
+    canvas: Canvas
+    session: PaintingSession
+    forces: np.ndarray
+    servo: ServoReport | None
+    wall_s: float
+
+
+@contextlib.contextmanager
+def _from_file(strokes: StrokeFile, line: int | None = None) -> Iterator[None]:
+    """Re-raise an :class:`InputError` caused by the file's content naming the file."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.source:
+            raise
+        raise InputError(exc.message, strokes.source, exc.key, exc.line or line) from None
+
+
+def new_canvas(header: StrokeHeader) -> Canvas:
+    """The blank canvas a stroke file's header describes (its pigments as empty channels)."""
+    return Canvas(header.canvas.pixels, header.canvas.size_m, header.pigments)
+
+
+def replay(
+    strokes: StrokeFile,
+    scene: PaintScene | None = None,
+    *,
+    canvas: Canvas | None = None,
+    servo_config: ServoConfig | None = None,
+    progress: Callable[[int], object] | None = None,
+    brush_dir: str | Path | None = None,
+    fidelity: str | None = None,
+    device: str | DeviceInfo | None = None,
+) -> ReplayResult:
+    """Replay ``strokes`` (see the module docstring).
+
+    Args:
+        strokes: a loaded stroke file.
+        scene: the painting scene; default the one the header names.
+        canvas: paint on this canvas instead of a blank one (its size must match the header's).
+        servo_config: the force path's configuration (default: 1 kHz, the paper's FIR filter).
+        progress: called with 1 after each record (a progress bar's ``update``).
+        brush_dir: where the named brush presets are (default: the bundled ones).
+        fidelity: ``draft``, ``standard`` or ``high`` on top of the scene (None: as written).
+        device: the device played on, by name (:data:`REPLAY_DEVICES`) or capabilities
+            (default: a simulated 6-DOF stylus).
+    """
+    start = time.perf_counter()
+    header = strokes.header
+    info = replay_device(device) if isinstance(device, str) else device
+    channel = ForceChannel()
+    with _from_file(strokes, line=1):
+        scene = scene or load_paint_scene(header.scene)
+    scene = apply_fidelity(scene, fidelity) if fidelity is not None else scene
+    with _from_file(strokes, line=1):
+        canvas = canvas if canvas is not None else new_canvas(header)
+        session = PaintingSession(
+            canvas,
+            header.brush,
+            scene,
+            input_kind=header.input_kind,
+            forces=channel,
+            brush_dir=brush_dir,
+            device=info,
+        )
+    samples = strokes.samples
+    path = ServoForcePath(samples, channel, servo_config, strokes.source, info) if samples else None
+    records = strokes.records
+    for i, record in enumerate(records):
+        with _from_file(strokes):
+            session.handle(record)
+        if path is not None and isinstance(record, StylusSample):
+            path.run_until(records[i + 1].t_s if i + 1 < len(records) else None)
+        if progress is not None:
+            progress(1)
+    report = path.close() if path is not None else None
+    forces = path.trace() if path is not None else np.zeros((0, len(FORCE_COLUMNS)))
+    return ReplayResult(canvas, session, forces, report, time.perf_counter() - start)

@@ -1,0 +1,221 @@
+"""Canvas files: EXR round trips, metadata, atomic writes, malformed input, PNG previews."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from common.errors import InputError
+from paintapp.canvas import exr as canvas_io
+from paintapp.canvas.exr import (
+    REC709_CHROMATICITIES,
+    read_canvas_exr,
+    read_exr_rgba,
+    unlit_rgba,
+    write_canvas_exr,
+)
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.preview import encode_preview, write_preview_png
+
+
+def painted_canvas(seed: int = 0) -> Canvas:
+    rng = np.random.default_rng(seed)
+    canvas = Canvas((20, 12), (0.02, 0.012))
+    for name in ("ultramarine_blue", "cadmium_yellow", "titanium_white"):
+        canvas.add_pigment(name)
+    canvas.paint_m[:] = rng.uniform(0.0, 1e-3, canvas.paint_m.shape)
+    canvas.paint_m[:, :3, :4] = 0.0  # some bare canvas
+    canvas.wetness[:] = rng.uniform(0.0, 1.0, canvas.wetness.shape)
+    return canvas
+
+
+def test_float_round_trip_is_exact(tmp_path):
+    canvas = painted_canvas()
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, canvas, half=False)
+    back = read_canvas_exr(path)
+    assert back.pixels == canvas.pixels and back.size_m == canvas.size_m
+    assert back.pigment_names == canvas.pigment_names
+    np.testing.assert_allclose(back.paint_m, canvas.paint_m, rtol=1e-6, atol=1e-12)
+    np.testing.assert_array_equal(back.wetness, canvas.wetness)
+    assert not back.paint_m[:, :3, :4].any()
+
+
+def test_half_round_trip_within_half_precision(tmp_path):
+    canvas = painted_canvas()
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, canvas, half=True)
+    back = read_canvas_exr(path)
+    # Concentrations are 16-bit (11-bit mantissa), the height 32-bit.
+    np.testing.assert_allclose(back.paint_m, canvas.paint_m, rtol=2e-3, atol=1e-9)
+    np.testing.assert_allclose(back.height_m, canvas.height_m, rtol=1e-6)
+    np.testing.assert_allclose(back.wetness, canvas.wetness, atol=5e-4)
+
+
+def test_file_layout_channels_and_chromaticities(tmp_path):
+    canvas = painted_canvas()
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, canvas, half=True, metadata={"stroke_file": "demo.jsonl"})
+    inp = oiio.ImageInput.open(str(path))
+    spec = inp.spec()
+    inp.close()
+    assert sorted(spec.channelnames) == sorted(
+        [
+            *("R", "G", "B", "A", "paint.height", "paint.wetness"),
+            *("pigment.ultramarine_blue", "pigment.cadmium_yellow", "pigment.titanium_white"),
+        ]
+    )
+    formats = dict(zip(spec.channelnames, (str(f) for f in spec.channelformats), strict=True))
+    assert formats["R"] == "half" and formats["paint.height"] == "float"
+    assert spec.getattribute("chromaticities") == pytest.approx(REC709_CHROMATICITIES)
+    assert spec.getattribute("paintapp:stroke_file") == "demo.jsonl"
+    assert spec.getattribute("compression") == "zip"
+
+
+def test_default_picture_is_the_unlit_colour_top_row_first(tmp_path):
+    canvas = painted_canvas()
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, canvas, half=False)
+    expected = unlit_rgba(canvas)
+    np.testing.assert_allclose(read_exr_rgba(path), expected, rtol=1e-6, atol=1e-7)
+    inp = oiio.ImageInput.open(str(path))
+    top_row = inp.read_image(0, 0, 0, 4, "float")[0]
+    inp.close()
+    np.testing.assert_allclose(top_row, expected[-1], rtol=1e-6, atol=1e-7)  # canvas top row
+
+
+def test_failed_write_leaves_the_old_file_intact(tmp_path, monkeypatch):
+    path = tmp_path / "c.exr"
+    old = painted_canvas(seed=1)
+    write_canvas_exr(path, old, half=False)
+    old_bytes = path.read_bytes()
+    real_write = canvas_io._write_image
+
+    def crash_mid_write(tmp, spec, pixels):
+        real_write(tmp, spec, pixels)
+        with open(tmp, "r+b") as f:  # a half-written file...
+            f.truncate(os.path.getsize(tmp) // 2)
+        raise OSError("disk full")  # ...then the writer dies
+
+    monkeypatch.setattr(canvas_io, "_write_image", crash_mid_write)
+    with pytest.raises(OSError, match="disk full"):
+        write_canvas_exr(path, painted_canvas(seed=2), half=False)
+    assert path.read_bytes() == old_bytes
+    assert [p.name for p in tmp_path.iterdir()] == ["c.exr"]  # no temporary left behind
+    np.testing.assert_allclose(read_canvas_exr(path).paint_m, old.paint_m, rtol=1e-6)
+
+
+WRITER = """
+import sys, numpy as np
+from paintapp.canvas.model import Canvas
+from paintapp.canvas.exr import write_canvas_exr
+canvas = Canvas((512, 512), (0.1, 0.1))
+canvas.add_pigment("cadmium_red")
+rgba = np.ones((512, 512, 4), np.float32)
+i = 0
+while True:
+    canvas.paint_m[0] = np.random.default_rng(i).uniform(0, 1e-3, (512, 512))
+    write_canvas_exr(sys.argv[1], canvas, rgba, half=False)
+    print(i, flush=True)
+    i += 1
+"""
+
+
+def test_killed_writer_never_leaves_a_broken_file(tmp_path):
+    path = tmp_path / "c.exr"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", WRITER, str(path)], stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert proc.stdout.readline().strip() == "0"  # one complete file exists
+        time.sleep(0.05)
+        proc.send_signal(signal.SIGKILL)  # most likely in the middle of the next write
+        proc.wait(timeout=10)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    canvas = read_canvas_exr(path)
+    assert canvas.pixels == (512, 512) and canvas.paint_m.max() > 0
+
+
+def write_plain_exr(path, names, pixels, attributes=()):
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], len(names), "float")
+    spec.channelnames = names
+    for key, value in attributes:
+        spec.attribute(key, value)
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), spec)
+    assert out.write_image(np.ascontiguousarray(pixels))
+    out.close()
+
+
+def test_missing_channel_names_the_file_and_the_channel(tmp_path):
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, painted_canvas(), half=False)
+    inp = oiio.ImageInput.open(str(path))
+    spec, pixels = inp.spec(), inp.read_image(0, 0, 0, 9, "float")
+    inp.close()
+    names = list(spec.channelnames)
+    keep = [i for i, n in enumerate(names) if n != "pigment.cadmium_yellow"]
+    broken = tmp_path / "broken.exr"
+    meta = spec.getattribute("paintapp:canvas")
+    write_plain_exr(
+        broken, [names[i] for i in keep], pixels[..., keep], [("paintapp:canvas", meta)]
+    )
+    with pytest.raises(InputError, match="missing channel") as info:
+        read_canvas_exr(broken)
+    assert info.value.source == str(broken) and info.value.key == "pigment.cadmium_yellow"
+
+
+def test_plain_exr_garbage_and_other_formats_are_input_errors(tmp_path):
+    plain = tmp_path / "plain.exr"
+    write_plain_exr(plain, ["R", "G", "B"], np.zeros((4, 4, 3), np.float32))
+    with pytest.raises(InputError, match="paintapp:canvas"):
+        read_canvas_exr(plain)
+    garbage = tmp_path / "garbage.exr"
+    garbage.write_bytes(b"\x76\x2f\x31\x01" + b"not really an exr" * 10)
+    with pytest.raises(InputError) as info:
+        read_canvas_exr(garbage)
+    assert info.value.source == str(garbage)
+    png = tmp_path / "p.png"
+    write_preview_png(png, np.zeros((4, 4, 4), np.float32))
+    with pytest.raises(InputError, match="OpenEXR"):
+        read_canvas_exr(png)
+    with pytest.raises(InputError, match="no such file"):
+        read_canvas_exr(tmp_path / "missing.exr")
+
+
+def test_non_finite_paint_in_a_file_is_rejected(tmp_path):
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, painted_canvas(), half=False)
+    inp = oiio.ImageInput.open(str(path))
+    spec, pixels = inp.spec(), inp.read_image(0, 0, 0, 9, "float")
+    inp.close()
+    pixels[2, 3, 4] = np.nan  # paint.height
+    meta = spec.getattribute("paintapp:canvas")
+    write_plain_exr(path, list(spec.channelnames), pixels, [("paintapp:canvas", meta)])
+    with pytest.raises(InputError, match="1 non-finite"):
+        read_canvas_exr(path)
+
+
+def test_preview_is_srgb_encoded_8_bit_with_the_top_row_first(tmp_path):
+    rgba = np.zeros((2, 3, 4), np.float32)
+    rgba[0, :, :3] = 0.18  # bottom row: middle grey
+    rgba[1, :, :3] = [1.0, 0.0, 2.0]  # top row: clipping above 1
+    pixels = encode_preview(rgba)
+    assert pixels.dtype == np.uint8 and pixels.shape == (2, 3, 3)
+    assert list(pixels[1, 0]) == [118, 118, 118]  # sRGB(0.18) = 0.461
+    assert list(pixels[0, 0]) == [255, 0, 255]
+    path = tmp_path / "p.png"
+    write_preview_png(path, rgba)
+    inp = oiio.ImageInput.open(str(path))
+    assert inp.spec().format == oiio.UINT8
+    np.testing.assert_array_equal(inp.read_image(0, 0, 0, 3, "uint8"), pixels)
+    inp.close()

@@ -1,0 +1,166 @@
+"""The local paint grid: its canvas window, column fill and write-back, re-centring, scenes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from brushes import StylusSample, TipTracker, load_preset_named
+from common.errors import InputError
+from paintapp.canvas.model import Canvas
+from paintapp.paint import (
+    MODELS,
+    PaintGrid3D,
+    brush_width_m,
+    load_paint_scene,
+    make_paint_model,
+)
+from paintapp.paint.columns import ColumnWindow, cell_texels
+from paintapp.paint.kernels import fill_columns
+from paintapp.paint.paint_scene import parse_paint_scene
+from paintapp.resources import asset_path
+
+BRUSHES = asset_path("brushes")
+
+
+def painted_canvas(seed: int = 0) -> Canvas:
+    """64 x 64 texels over 16 mm, two pigments of random wet and dry paint."""
+    rng = np.random.default_rng(seed)
+    paint = (rng.random((2, 64, 64)) * 1e-4).astype(np.float32)
+    wet = rng.random((64, 64)).astype(np.float32)
+    return Canvas((64, 64), (0.016, 0.016), ("ultramarine_blue", "cadmium_yellow"), paint, wet)
+
+
+def test_cell_size_is_a_whole_number_of_texels_spanning_the_brush():
+    preset = load_preset_named("round_small", BRUSHES)
+    width = brush_width_m(preset)
+    assert 2 * 0.002 < width < 2 * 0.002 * 2.0  # the belly, splayed
+    k = cell_texels(width, 0.25e-3, 32, 2.0)
+    assert k == round(2.0 * width / (32 * 0.25e-3))
+    assert cell_texels(width, 1e-2, 32, 2.0) == 1  # never below one texel
+
+
+def test_window_snaps_to_the_block_lattice_and_recentres_only_past_the_margin():
+    window = ColumnWindow(painted_canvas(), (16, 16), 2)
+    window.place(0.0081, 0.0079)
+    assert all(o % 2 == 0 for o in window.origin_texel)
+    centre = np.array(window.origin_m) + 8 * window.cell_size_m
+    assert window.recentre_offset(*centre, margin=4) == (0, 0)
+    near_edge = centre + np.array([5.3, -6.4]) * window.cell_size_m
+    di, dj = window.recentre_offset(*near_edge, margin=4)
+    assert (di, dj) == (5, -6)
+
+
+def test_gather_takes_only_the_wet_paint_and_unchanged_columns_are_not_written():
+    canvas = painted_canvas()
+    window = ColumnWindow(canvas, (16, 16), 2)
+    window.place(0.008, 0.008)
+    columns = window.gather(canvas)
+    mobile = canvas.paint_m.astype(np.float64) * canvas.wetness
+    r = window.on_canvas_range()
+    assert r is not None
+    i, j = r[0] + 3, r[2] + 5
+    x0, y0 = window.origin_texel[0] + 2 * i, window.origin_texel[1] + 2 * j
+    np.testing.assert_allclose(
+        columns[:, i, j], mobile[:, y0 : y0 + 2, x0 : x0 + 2].mean(axis=(1, 2))
+    )
+    before = canvas.paint_m.copy(), canvas.wetness.copy()
+    canvas.take_dirty()
+    window.write_back(canvas, np.zeros_like(columns))
+    assert np.array_equal(canvas.paint_m, before[0]) and np.array_equal(canvas.wetness, before[1])
+    assert canvas.take_dirty() is None
+
+
+def test_write_back_conserves_paint_and_keeps_dry_paint():
+    canvas = painted_canvas(1)
+    window = ColumnWindow(canvas, (16, 16), 2)
+    window.place(0.008, 0.008)
+    columns = window.gather(canvas)
+    dry = canvas.paint_m.sum(axis=0, dtype=np.float64) * (1.0 - canvas.wetness)
+    delta = np.zeros_like(columns)
+    delta[0, 4, 4] = 3e-5  # a gain of blue
+    delta[1, 6, 7] = -0.5 * columns[1, 6, 7]  # half the wet yellow leaves
+    area = 4 * canvas.texel_size_m[0] ** 2
+    total = canvas.paint_m.sum(axis=(1, 2), dtype=np.float64) * canvas.texel_size_m[0] ** 2
+    window.write_back(canvas, delta)
+    after = canvas.paint_m.sum(axis=(1, 2), dtype=np.float64) * canvas.texel_size_m[0] ** 2
+    np.testing.assert_allclose(after - total, delta.sum(axis=(1, 2)) * area, rtol=1e-4, atol=1e-14)
+    still_dry = canvas.paint_m.sum(axis=0, dtype=np.float64) * (1.0 - canvas.wetness)
+    np.testing.assert_allclose(still_dry, dry, atol=1e-10)  # the dry paint stays
+
+
+def test_columns_fill_cells_from_the_bottom_with_a_fractional_top_cell():
+    h = 1e-4
+    columns = np.zeros((2, 1, 1))
+    columns[:, 0, 0] = (1.5 * h, 1.0 * h)  # 2.5 cells, 60 % blue
+    cells = np.zeros((2, 1, 1, 5))
+    fill_columns(columns, h, cells)
+    np.testing.assert_allclose(cells.sum(axis=0)[0, 0], [1.0, 1.0, 0.5, 0.0, 0.0])
+    np.testing.assert_allclose(cells[0, 0, 0, :3], 0.6 * np.array([1.0, 1.0, 0.5]))
+    np.testing.assert_allclose(cells.sum(axis=3)[:, 0, 0] * h, columns[:, 0, 0])
+
+
+def test_non_square_texels_are_refused():
+    canvas = Canvas((64, 32), (0.016, 0.016))
+    with pytest.raises(InputError, match="square texels"):
+        ColumnWindow(canvas, (16, 16), 1)
+
+
+def test_grid_recentres_by_whole_cells_and_keeps_its_fluid_state():
+    canvas = painted_canvas(2)
+    scene = dataclasses.replace(load_paint_scene(), cells=(16, 16, 8), margin_cells=4)
+    preset = load_preset_named("round_small", BRUSHES)
+    model = PaintGrid3D(scene, canvas, preset)
+    tracker = TipTracker(preset)
+    from brushes import PaintReservoir
+
+    reservoir = PaintReservoir(preset.capacity_m3)
+    pose = tracker.update(StylusSample(0.0, np.array([0.008, 0.008, 0.0]), 0.8))
+    model.touch_down(pose)
+    pose = tracker.update(StylusSample(0.02, np.array([0.0085, 0.008, 0.0]), 0.8))
+    model.step(pose, 0.02, reservoir)
+    assert model.sim is not None
+    before = [c.copy() for c in model.sim.state.comps]
+    origin = model.window.origin_texel
+    di, dj = model.follow(np.array([0.0085 + 6.0 * model.cell_size_m, 0.008, 0.0]))
+    assert (di, dj) != (0, 0)
+    assert model.window.origin_texel == (
+        origin[0] + di * model.window.k,
+        origin[1] + dj * model.window.k,
+    )
+    np.testing.assert_allclose(model.sim.grid.origin_m[:2], model.window.origin_m)
+    n = 16
+    for a in range(3):
+        old, new = before[a], model.sim.state.comps[a]
+        xs = slice(max(di, 0) + 1, n + min(di, 0) - 1)
+        ys = slice(max(dj, 0) + 1, n + min(dj, 0) - 1)
+        src = old[xs, ys]
+        dst = new[xs.start - di : xs.stop - di, ys.start - dj : ys.stop - dj]
+        np.testing.assert_array_equal(dst[:, :, :-1], src[:, :, :-1])
+
+
+def test_the_scene_chooses_the_paint_model():
+    canvas = painted_canvas()
+    preset = load_preset_named("round_small", BRUSHES)
+    for name, expected in (
+        ("default", "grid3d"),
+        ("thin_glaze", "depth_averaged"),
+        ("no_fluid", "none"),
+    ):
+        scene = load_paint_scene(name)
+        assert scene.fluid_model == expected
+        model = make_paint_model(scene, canvas, preset)
+        assert isinstance(model, MODELS[expected])
+
+
+def test_a_bad_scene_names_the_key():
+    with pytest.raises(InputError, match="fluid_model"):
+        parse_paint_scene({"fluid_model": "water"}, "bad")
+    with pytest.raises(InputError, match=r"paint\.viscosity_pa_s"):
+        parse_paint_scene({"paint": {"viscosity_pa_s": -1.0}}, "bad")
+    with pytest.raises(InputError, match=r"grid\.typo"):
+        parse_paint_scene({"grid": {"typo": 1}}, "bad")
+    with pytest.raises(InputError, match="unknown painting scene"):
+        load_paint_scene("no_such_scene")

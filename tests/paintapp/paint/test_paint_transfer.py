@@ -1,0 +1,112 @@
+"""Paint transfer between brush, paint grid and canvas: conservation, locality, drying."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from paintapp.canvas.model import Canvas
+from paintapp.paint import PaintScene, load_paint_scene
+from paintapp.session.painting import PaintingSession, paint_inventory
+from tests.support.demo_strokes import StrokeSpec, stroke_samples
+
+BLUE, YELLOW = "ultramarine_blue", "cadmium_yellow"
+
+
+def small_scene(name: str = "default") -> PaintScene:
+    """A bundled scene on a smaller grid, for speed."""
+    scene = load_paint_scene(name)
+    if scene.fluid_model == "grid3d":
+        return dataclasses.replace(scene, cells=(20, 20, 8), margin_cells=6)
+    return dataclasses.replace(scene, cells=(24, 24, 1), margin_cells=7)
+
+
+def paint(session: PaintingSession, spec: StrokeSpec, t0: float) -> float:
+    """Feed one stroke; returns the time after it."""
+    samples = stroke_samples(spec, t0)
+    for s in samples:
+        session.sample(s)
+    return samples[-1].t_s + 0.1
+
+
+def balance(session: PaintingSession) -> dict[str, float]:
+    """canvas + brush - loaded + removed, per pigment (zero when paint is conserved)."""
+    inventory = paint_inventory(session.canvas, session.reservoir)
+    return {
+        name: v - session.loaded_m3.get(name, 0.0) + session.removed_m3.get(name, 0.0)
+        for name, v in inventory.items()
+    }
+
+
+@pytest.mark.parametrize("scene_name", ["default", "thin_glaze", "no_fluid"])
+def test_paint_is_conserved_through_brush_grid_and_canvas(scene_name):
+    canvas = Canvas((96, 96), (0.024, 0.024), (BLUE, YELLOW))
+    session = PaintingSession(canvas, "round_small", small_scene(scene_name))
+    session.load_pigment(BLUE, 1.5e-8)
+    t = paint(session, StrokeSpec((0.004, 0.012), (0.02, 0.013), 0.35, 0.8, (0.2, 0.0)), 0.0)
+    session.load_pigment(YELLOW, 1e-8)  # the brush still carries blue: a mix
+    t = paint(session, StrokeSpec((0.012, 0.004), (0.012, 0.02), 0.35, 0.9, (0.0, 0.2)), t)
+    session.switch_brush("flat_wide")  # the old brush's paint is booked as removed
+    t = paint(session, StrokeSpec((0.02, 0.006), (0.005, 0.018), 0.35, 0.9), t)  # picks up
+    total = sum(session.loaded_m3.values())
+    assert canvas.paint_m.sum() > 0.0 and session.reservoir.total_m3 > 0.0
+    for name, error in balance(session).items():
+        assert abs(error) < 2e-6 * total, (name, error)
+
+
+def test_no_paint_appears_where_the_brush_never_went():
+    canvas = Canvas((128, 128), (0.032, 0.032), (BLUE,))
+    scene = small_scene()
+    session = PaintingSession(canvas, "round_small", scene)
+    session.load_pigment(BLUE, 2e-8)
+    paint(session, StrokeSpec((0.006, 0.008), (0.026, 0.008), 0.4, 0.8), 0.0)
+    height = canvas.height_m
+    assert height[:, :].max() > 1e-5
+    reach = scene.cells[1] * session.model.cell_size_m  # the grid's whole width around the path
+    rows = int(np.ceil((0.008 + reach) / canvas.texel_size_m[1]))
+    assert rows < canvas.height
+    assert not height[rows:].any() and not canvas.wetness[rows:].any()
+    painted_rows = np.flatnonzero(height.max(axis=1) > 1e-6)
+    assert painted_rows.max() * canvas.texel_size_m[1] < 0.008 + 0.004  # near the path only
+
+
+def wet_block(wetness: float) -> Canvas:
+    """A canvas with a 1 mm layer of blue over its middle, of the given wetness."""
+    paint = np.zeros((1, 96, 96), np.float32)
+    paint[0, 30:66, 10:86] = 1e-3
+    wet = np.zeros((96, 96), np.float32)
+    wet[30:66, 10:86] = wetness
+    return Canvas((96, 96), (0.024, 0.024), (BLUE,), paint, wet)
+
+
+def test_dry_paint_does_not_move_and_wet_paint_does():
+    for wetness, moves in ((0.0, False), (1.0, True)):
+        canvas = wet_block(wetness)
+        before = canvas.paint_m.copy()
+        session = PaintingSession(canvas, "round_small", small_scene())
+        paint(session, StrokeSpec((0.003, 0.012), (0.021, 0.012), 0.35, 0.9), 0.0)
+        changed = not np.array_equal(canvas.paint_m, before)
+        assert changed == moves
+        assert (session.reservoir.total_m3 > 0.0) == moves  # a clean brush soaks up wet paint
+
+
+def test_a_loaded_brush_lays_down_what_leaves_its_reservoir():
+    canvas = Canvas((96, 96), (0.024, 0.024), (BLUE,))
+    session = PaintingSession(canvas, "round_small", small_scene())
+    session.load_pigment(BLUE, 1.5e-8)
+    paint(session, StrokeSpec((0.004, 0.012), (0.02, 0.012), 0.4, 0.8), 0.0)
+    laid = paint_inventory(canvas, session.reservoir)[BLUE] - session.reservoir.total_m3
+    assert 0.1 * 1.5e-8 < laid < 1.5e-8
+    np.testing.assert_allclose(laid + session.reservoir.total_m3, 1.5e-8, rtol=1e-6)
+    assert canvas.wetness[canvas.height_m > 0].min() > 0.9  # fresh paint is wet
+
+
+def test_wetness_decays_at_the_scene_rate():
+    canvas = wet_block(1.0)
+    scene = dataclasses.replace(small_scene(), drying_rate_per_s=0.5)
+    session = PaintingSession(canvas, "round_small", scene)
+    session.advance_time(0.0)
+    session.advance_time(2.0)
+    np.testing.assert_allclose(canvas.wetness[40, 40], np.exp(-1.0), rtol=1e-5)

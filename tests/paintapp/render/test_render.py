@@ -1,0 +1,212 @@
+"""Rendering with moderngl (headless EGL): shaders compile, pixels match the CPU Kubelka-Munk
+reference, the relief is lit from the light's side, and only dirty regions are uploaded."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from paintapp.canvas.model import Canvas
+from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
+from paintapp.pigments.library import bundled_pigments
+from paintapp.render import (
+    PROGRAM_NAMES,
+    BrushOutline,
+    CanvasRenderer,
+    ForceArrow,
+    Lighting,
+    RenderUnavailable,
+    ViewRect,
+    create_headless_context,
+    load_program,
+)
+from paintapp.resources import shader_source
+
+UNLIT = Lighting(enabled=False)
+TEXEL_M = 1e-4
+
+
+@pytest.fixture(scope="module")
+def ctx():
+    try:
+        context = create_headless_context()
+    except RenderUnavailable as exc:
+        pytest.skip(f"no headless OpenGL (EGL) on this machine: {exc}")
+    yield context
+    context.release()
+
+
+@pytest.fixture(scope="module")
+def library():
+    return bundled_pigments()
+
+
+def known_canvas(w: int = 24, h: int = 16) -> Canvas:
+    """Five pigments (two texture layers): masstones, mixes, a thickness ramp and bare ground."""
+    canvas = Canvas((w, h), (w * TEXEL_M, h * TEXEL_M))
+    names = ["ultramarine_blue", "cadmium_yellow", "titanium_white", "cadmium_red", "phthalo_blue"]
+    idx = [canvas.add_pigment(n) for n in names]
+    p = canvas.paint_m
+    p[idx[0], :, 0:8] = 1e-3
+    p[idx[1], :, 4:12] = 1e-3
+    p[idx[2], 8:, :] += 3e-4
+    p[idx[3], 4:8, 14:20] = 5e-4
+    p[idx[4], :, 12:14] = np.linspace(0.0, 5e-5, h)[:, None]
+    p[:, :4, 20:] = 0.0  # bare ground in one corner
+    return canvas
+
+
+def reference(canvas: Canvas, library) -> np.ndarray:
+    return canvas_linear_rgb(canvas, canvas_band_table(canvas, library))
+
+
+def assert_matches(rgba: np.ndarray, expected: np.ndarray) -> None:
+    # Concentrations travel as half floats: allow ~1e-3 relative plus a small absolute slack.
+    np.testing.assert_allclose(rgba[..., :3], expected, rtol=1e-2, atol=2e-3)
+
+
+def test_every_shader_file_is_a_known_program():
+    import importlib.resources
+
+    files = {p.name for p in importlib.resources.files("paintapp.shaders").iterdir()}
+    assert {f"{n}.glsl" for n in PROGRAM_NAMES} == {f for f in files if f.endswith(".glsl")}
+    for name in PROGRAM_NAMES:
+        source_lines = shader_source(f"{name}.glsl").splitlines()
+        assert not any(line.startswith("#version") for line in source_lines)  # the loader adds it
+
+
+@pytest.mark.parametrize("name", PROGRAM_NAMES)
+def test_every_shader_compiles(ctx, name):
+    variants = [{"N_GROUPS": 3, "MAX_PIGMENTS": 16, "N_LAYERS": n} for n in (1, 4)]
+    for defines in variants if name == "canvas" else [None]:
+        program = load_program(ctx, name, defines)
+        assert "u_view" in program
+        program.release()
+
+
+def test_render_matches_the_cpu_reference_pixel_by_pixel(ctx, library):
+    canvas = known_canvas()
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    rgba = renderer.render_linear_rgba(canvas)
+    assert rgba.shape == (16, 24, 4) and np.all(rgba[..., 3] == 1.0)
+    assert_matches(rgba, reference(canvas, library))
+    renderer.release()
+
+
+def test_flat_dry_paint_keeps_its_colour_under_any_light(ctx, library):
+    canvas = known_canvas()
+    total = canvas.height_m
+    canvas.paint_m *= np.where(total > 0, 1e-3 / np.maximum(total, 1e-30), 0.0)
+    canvas.paint_m[0][total == 0] = 1e-3  # a flat 1 mm surface everywhere
+    canvas.mark_all_dirty()
+    expected = reference(canvas, library)
+    renderer = CanvasRenderer(ctx, library)
+    for azimuth, elevation in ((135.0, 45.0), (10.0, 20.0)):
+        renderer.lighting = Lighting(azimuth_deg=azimuth, elevation_deg=elevation, specular=0.0)
+        assert_matches(renderer.render_linear_rgba(canvas), expected)
+    renderer.release()
+
+
+def ridge_canvas(wet: float = 0.0) -> Canvas:
+    canvas = Canvas((32, 8), (32 * TEXEL_M, 8 * TEXEL_M))
+    canvas.add_pigment("titanium_white")
+    x = np.arange(32)
+    canvas.paint_m[0] = (2e-3 + 3e-4 * np.exp(-(((x - 16) / 4.0) ** 2)))[None, :]
+    canvas.wetness[:] = wet
+    return canvas
+
+
+def test_impasto_relief_is_lit_from_the_light_side(ctx, library):
+    canvas = ridge_canvas()
+    renderer = CanvasRenderer(ctx, library)
+    lum = {}
+    for azimuth in (180.0, 0.0):  # light from -x (left), then from +x (right)
+        renderer.lighting = Lighting(azimuth_deg=azimuth, elevation_deg=30.0, specular=0.0)
+        canvas.mark_all_dirty()
+        lum[azimuth] = renderer.render_linear_rgba(canvas)[4, :, 1]
+    left_flank, right_flank, far = 13, 19, 0
+    assert lum[180.0][left_flank] > lum[180.0][far] > lum[180.0][right_flank]
+    assert lum[0.0][right_flank] > lum[0.0][far] > lum[0.0][left_flank]
+    renderer.release()
+
+
+def test_wet_paint_has_a_specular_highlight(ctx, library):
+    renderer = CanvasRenderer(ctx, library)
+    renderer.lighting = Lighting(elevation_deg=90.0, specular=0.4)
+    dry = renderer.render_linear_rgba(ridge_canvas(wet=0.0))
+    wet = renderer.render_linear_rgba(ridge_canvas(wet=1.0))
+    assert wet[4, 0, :3] - dry[4, 0, :3] == pytest.approx([0.4] * 3, abs=1e-3)  # flat: n.h = 1
+    renderer.release()
+
+
+def test_only_the_dirty_region_is_uploaded(ctx, library):
+    canvas = known_canvas()
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    before = renderer.render_linear_rgba(canvas)
+    assert renderer.update(canvas) is None  # nothing changed
+    red = canvas.pigment_index("cadmium_red")
+    canvas.paint_m[red, 0:2, 0:2] = 2e-3  # changed without telling anyone
+    patch = np.zeros((5, 3, 3), np.float32)
+    patch[red] = 1e-3
+    canvas.write_region(20, 0, patch)  # the proper way: marks (20, 0, 23, 3) dirty
+    assert renderer.update(canvas) == (20, 0, 23, 3)
+    renderer.render()
+    after = renderer.read_linear_rgba()
+    np.testing.assert_array_equal(after[0:2, 0:2], before[0:2, 0:2])  # not re-uploaded
+    assert_matches(after[0:3, 20:23], reference(canvas, library)[0:3, 20:23])
+    assert not np.allclose(after[0:3, 20:23], before[0:3, 20:23])
+    renderer.release()
+
+
+def test_a_new_pigment_rebuilds_the_textures(ctx, library):
+    canvas = Canvas((8, 8), (8 * TEXEL_M, 8 * TEXEL_M))
+    canvas.add_pigment("cadmium_yellow")
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    renderer.render_linear_rgba(canvas)
+    canvas.add_pigment("ivory_black")  # fits the first layer: nothing to upload
+    assert renderer.update(canvas) is None
+    for name in ("ivory_black", "sap_green", "burnt_sienna", "quinacridone_magenta"):
+        canvas.write_region(0, 0, np.full((canvas.add_pigment(name) + 1, 8, 2), 2e-4))
+    assert_matches(renderer.render_linear_rgba(canvas), reference(canvas, library))
+    renderer.release()
+
+
+def test_view_rect_shows_a_part_of_the_canvas(ctx, library):
+    canvas = known_canvas()
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    view = ViewRect(8 * TEXEL_M, 4 * TEXEL_M, 20 * TEXEL_M, 12 * TEXEL_M)
+    rgba = renderer.render_linear_rgba(canvas, size=(12, 8), view=view)
+    assert_matches(rgba, reference(canvas, library)[4:12, 8:20])
+    renderer.release()
+
+
+def test_brush_outline_and_force_arrow_are_drawn(ctx, library):
+    canvas = Canvas((64, 64), (64 * TEXEL_M, 64 * TEXEL_M))
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    centre = (32.0 * TEXEL_M, 32.0 * TEXEL_M)
+    outline = BrushOutline(centre, (10 * TEXEL_M, 10 * TEXEL_M), color=(0.0, 0.0, 1.0, 1.0))
+    arrow = ForceArrow(centre, (2.0, 0.0, 5.0), 10 * TEXEL_M, color=(1.0, 0.0, 0.0, 1.0))
+    renderer.update(canvas)
+    renderer.render(outlines=[outline], arrows=[arrow])
+    rgba = renderer.read_linear_rgba()
+    ground = rgba[5, 5, :3].copy()
+    assert rgba[32, 12 + 10, :3] == pytest.approx([0.0, 0.0, 1.0])  # on the ring, left side
+    assert rgba[32 + 10, 32, :3] == pytest.approx([0.0, 0.0, 1.0])  # top of the ring
+    assert rgba[32, 40, :3] == pytest.approx([1.0, 0.0, 0.0])  # along +x: the arrow (20 texels)
+    assert rgba[32, 26, :3] == pytest.approx(ground)  # behind the tail: untouched
+    assert rgba[36, 32, :3] == pytest.approx(ground)  # inside the ring, off the arrow
+    renderer.release()
+
+
+def test_largest_canvas_uploads_and_renders(ctx, library):
+    canvas = Canvas((4096, 4096), (0.4, 0.4))
+    red = canvas.add_pigment("cadmium_red")
+    canvas.paint_m[red, 4000:4090, 4000:4050] = 1e-3
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    assert renderer.update(canvas) == (0, 0, 4096, 4096)
+    view = ViewRect(3990 * 1e-4 * 0.9765625, 3990 * 1e-4 * 0.9765625, 0.4, 0.4)
+    renderer.render(size=(106, 106), view=view)
+    rgba = renderer.read_linear_rgba()
+    expected = canvas_linear_rgb(canvas, canvas_band_table(canvas, library), slice(3990, 4096))
+    assert_matches(rgba, expected[:, 3990:])
+    renderer.release()

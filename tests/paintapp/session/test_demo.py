@@ -1,0 +1,53 @@
+"""The bundled demo strokes, and the demo run end to end (slow)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from brushes import StylusSample
+from paintapp.canvas.exr import read_canvas_exr
+from paintapp.cli import main
+from paintapp.resources import asset_path
+from paintapp.session.outputs import read_forces_csv
+from paintapp.strokes.files import read_strokes
+from paintapp.strokes.records import LoadPigment, StrokeRecord, SwitchBrush, record_to_dict
+from tests.support.demo_strokes import demo_recording
+
+DEMO = asset_path("strokes", "demo.jsonl")
+
+
+def as_dicts(records: tuple[StrokeRecord, ...] | list[StrokeRecord]) -> list[dict]:
+    return [record_to_dict(r) for r in records]
+
+
+def test_bundled_demo_is_what_the_generator_writes():
+    header, records = demo_recording()
+    bundled = read_strokes(DEMO, allow_truncated=False)
+    assert bundled.header == header
+    assert as_dicts(bundled.records) == as_dicts(records)
+
+
+def test_demo_has_several_brushes_and_pigments():
+    strokes = read_strokes(DEMO)
+    brushes = {strokes.header.brush} | {
+        e.preset for e in strokes.events if isinstance(e, SwitchBrush)
+    }
+    pigments = {e.pigment for e in strokes.events if isinstance(e, LoadPigment)}
+    assert len(brushes) >= 4 and "square_probe" in brushes
+    assert len(pigments) >= 4
+    assert sum(isinstance(r, StylusSample) for r in strokes.records) > 300
+
+
+@pytest.mark.slow
+def test_demo_paints_mixes_and_records_forces(tmp_path):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--flat"]) == 0
+    canvas = read_canvas_exr(out / "canvas.exr")
+    conc = canvas.concentration
+    blue, yellow = canvas.pigment_index("ultramarine_blue"), canvas.pigment_index("cadmium_yellow")
+    assert np.count_nonzero((conc[blue] > 0.2) & (conc[yellow] > 0.2)) > 1000  # they mixed
+    red = conc[canvas.pigment_index("cadmium_red")] > 0.5
+    assert canvas.height_m[red].max() > 5e-4  # impasto: over half a millimetre
+    forces = read_forces_csv(out / "forces.csv")
+    assert np.all(np.isfinite(forces)) and np.linalg.norm(forces[:, 1:4], axis=1).max() > 0.01
