@@ -30,8 +30,15 @@ def make(dim: int, n: int, advection: str) -> Simulation:
     if dim == 2:
         probe = Probe("box", Box(size), 2, np.array([0.3, 0.5]), 0.0, np.array([0.8, 0.2]), 3.0)
     else:
-        probe = Probe("box", Box(size), 3, np.array([0.3, 0.5, 0.5]), None,
-                      np.array([0.8, 0.2, 0.1]), np.array([0.0, 0.0, 3.0]))
+        probe = Probe(
+            "box",
+            Box(size),
+            3,
+            np.array([0.3, 0.5, 0.5]),
+            None,
+            np.array([0.8, 0.2, 0.1]),
+            np.array([0.0, 0.0, 3.0]),
+        )
     settings = SolverSettings(advection=advection, pressure_tolerance=1e-5)
     return Simulation(grid, Fluid(1.0, 1e-3), probes=[probe], settings=settings)
 

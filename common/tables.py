@@ -115,7 +115,9 @@ class Table:
         reported as such, not as the missing key it was meant to be)."""
         for name in self.data:
             if name not in names:
-                raise self.error(name, f"is not a known key here; expected one of {', '.join(names)}")
+                raise self.error(
+                    name, f"is not a known key here; expected one of {', '.join(names)}"
+                )
 
     def finish(self) -> None:
         """Raise for the first key that no getter asked for."""

@@ -10,7 +10,11 @@ from paintapp.bench import references, sweep_force
 from paintapp.bench.rates import filter_rate
 from paintapp.bench.registry import Family
 
-_SOLVER: dict[str, Any] = {"advection": "linear", "pressure_tolerance": 1e-6, "max_iterations": 1000}
+_SOLVER: dict[str, Any] = {
+    "advection": "linear",
+    "pressure_tolerance": 1e-6,
+    "max_iterations": 1000,
+}
 _QUICK_SWEEP = {"reference_cells": 64}
 
 
@@ -18,7 +22,9 @@ def _cavity() -> Family:
     quick = [{"cells": c, "advection": a} for c in (16, 32) for a in ("linear", "maccormack")]
     quick += [{"pressure_tolerance": 1e-2, "max_iterations": 5}]
     full = [{"cells": c, "advection": a} for c in (16, 32, 64) for a in ("linear", "maccormack")]
-    full += [{"pressure_tolerance": t, "max_iterations": m} for t in (1e-2, 1e-4) for m in (5, 1000)]
+    full += [
+        {"pressure_tolerance": t, "max_iterations": m} for t in (1e-2, 1e-4) for m in (5, 1000)
+    ]
     return Family(
         "cavity", references.cavity, ("ghia_max_error",),
         {"cells": 32, **_SOLVER, "advection": "maccormack"},

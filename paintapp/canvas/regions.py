@@ -33,5 +33,3 @@ def box_of_nonzero(array: np.ndarray) -> Box | None:
         return None
     cols = np.flatnonzero(array.any(axis=0))
     return (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
-
-

@@ -64,7 +64,11 @@ def _warm_up_kernels() -> None:
     from paintapp.session.playback import replay
     from paintapp.strokes.files import read_strokes
 
-    replay(read_strokes(Path(__file__).resolve().parents[1] / "session" / "golden" / "grid3d_drag.jsonl"))
+    replay(
+        read_strokes(
+            Path(__file__).resolve().parents[1] / "session" / "golden" / "grid3d_drag.jsonl"
+        )
+    )
 
 
 @pytest.fixture(scope="session")
