@@ -30,7 +30,10 @@ import numpy as np
 class Shape(Protocol):
     """What the solver needs from a probe shape."""
 
-    bounding_radius_m: float
+    @property
+    def bounding_radius_m(self) -> float:
+        """Largest distance (m) from the body origin to any point of the shape."""
+        ...
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
         """Signed distance (m), shape (...), of body-frame points (..., d)."""

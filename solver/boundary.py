@@ -75,7 +75,7 @@ class DomainBoundary:
             q = comps[a]
             for e in range(2):
                 side = self.side(a, e)
-                face = [slice(None)] * 3
+                face: list[slice | int] = [slice(None)] * 3
                 face[a] = 0 if e == 0 else q.shape[a] - 1
                 inner = list(face)
                 inner[a] = 1 if e == 0 else q.shape[a] - 2
@@ -93,7 +93,7 @@ class DomainBoundary:
         side = self.side(axis, end)
         peak = side.velocity[axis] if len(side.velocity) > axis else 0.0
         pos = g.face_centres(axis)
-        face = [slice(None)] * 3
+        face: list[slice | int] = [slice(None)] * 3
         face[axis] = 0
         pos = pos[tuple(face)]
         shape = np.ones(pos.shape[:-1])

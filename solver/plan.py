@@ -77,8 +77,8 @@ def _probe_speed(p: Probe) -> float:
         lin = np.linalg.norm(np.diff(p.path[:, 1 : 1 + d], axis=0), axis=1) / dt
         spin = np.abs(np.diff(p.path[:, 1 + d])) / dt if d == 2 else np.zeros_like(dt)
         return float(np.max(lin + spin * reach))
-    spin = float(np.linalg.norm(p.omega3()))
-    return float(np.linalg.norm(p.velocity_m_s)) + spin * reach
+    spin_rad_s = float(np.linalg.norm(p.omega3()))
+    return float(np.linalg.norm(p.velocity_m_s)) + spin_rad_s * reach
 
 
 def _time_step(sim: Simulation, dt_s: float) -> Decision:

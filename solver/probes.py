@@ -98,7 +98,9 @@ class Probe:
                 self.orientation = float(self.orientation) + self.angular_velocity_rad_s * dt_s
             else:
                 dq = rotation.from_rotation_vector(np.asarray(self.angular_velocity_rad_s) * dt_s)
-                self.orientation = rotation.normalise(rotation.multiply(dq, self.orientation))
+                self.orientation = rotation.normalise(
+                    rotation.multiply(dq, np.asarray(self.orientation))
+                )
             return
         c0, o0 = self.pose_at(t_s)
         c1, o1 = self.pose_at(t_s + dt_s)

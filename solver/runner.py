@@ -37,7 +37,9 @@ def run_scene(scene: Scene, progress: Callable[[int], None] | None = None) -> di
                 raise NonFiniteError(f"non-finite force on probe {name!r} at t = {sim.time_s:g} s")
             rec = forces[name]
             rec["force"].append(f.force.tolist())
-            rec["torque"].append(f.torque if np.isscalar(f.torque) else f.torque.tolist())
+            rec["torque"].append(
+                f.torque.tolist() if isinstance(f.torque, np.ndarray) else f.torque
+            )
             rec["pressure_force"].append(f.pressure_force.tolist())
             rec["viscous_force"].append(f.viscous_force.tolist())
         if n % 50 == 49 or n == scene.run.steps - 1:

@@ -19,7 +19,7 @@ from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.drag_models import MODELS
 from solver.grid import Grid
 from solver.probes import Probe
-from solver.shapes import Ball, Box
+from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
 
 SCHEMA_VERSION = 1
@@ -197,6 +197,9 @@ def _probe(t: Table, grid: Grid) -> Probe:
     name = t.string("name")
     shapes = ("circle", "box") if dim == 2 else ("sphere", "box")
     kind = t.string("shape", choices=shapes)
+    shape: Shape
+    orientation: float | np.ndarray
+    omega: float | np.ndarray
     if kind == "box":
         shape = Box(t.vector("size", dim, positive=True))
     else:

@@ -17,7 +17,8 @@ import numpy as np
 class Shape(Protocol):
     """A solid described by its signed distance (metres, negative inside) in its body frame."""
 
-    bounding_radius_m: float
+    @property
+    def bounding_radius_m(self) -> float: ...
 
     def sdf(self, points: np.ndarray) -> np.ndarray: ...
 

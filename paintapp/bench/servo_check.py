@@ -87,7 +87,7 @@ def synthetic_workload(cells: int = 48, sweeps: int = 20) -> SimStep:
                 + a[1:-1, 1:-1, 2:]
             ) / 6.0
         t[0] += 0.01
-        return ForceSample(t[0], [0.01 * float(a[5, 5, 5]), 0.0, 0.0], np.zeros(3))
+        return ForceSample(t[0], np.array([0.01 * float(a[5, 5, 5]), 0.0, 0.0]), np.zeros(3))
 
     return step
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Generic, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
 from paintapp.haptics.device import DeviceState
 
@@ -82,9 +83,13 @@ class LatestValue(Generic[T]):
 class ForceChannel(LatestValue[ForceSample]):
     """Where the simulation publishes force samples and the servo loop reads the latest one."""
 
-    def publish_force(self, t_s: float, force: object, torque: object | None = None) -> int:
+    def publish_force(
+        self, t_s: float, force: npt.ArrayLike, torque: npt.ArrayLike | None = None
+    ) -> int:
         """Publish ``force`` (N, shape (3,)) and ``torque`` (N m, shape (3,), default zero) at ``t_s``."""
-        return self.publish(ForceSample(t_s, force, np.zeros(3) if torque is None else torque))
+        force_n = _vector3(force, "force")
+        torque_nm = np.zeros(3) if torque is None else _vector3(torque, "torque")
+        return self.publish(ForceSample(t_s, force_n, torque_nm))
 
 
 class StateChannel(LatestValue[DeviceState]):

@@ -66,4 +66,4 @@ class TickLog:
 
     def save(self, path: str | Path) -> None:
         """Write the columns to an ``.npz`` file."""
-        np.savez(Path(path), **self.arrays())
+        np.savez(Path(path), allow_pickle=True, **self.arrays())

@@ -86,7 +86,7 @@ class ReplayDevice:
         self._info = info or SIMULATED_INFO
         self._t0: float | None = None
         self._now = 0.0
-        self._forces: list[tuple[float, float, float, float, float, float, float]] = []
+        self._forces: list[tuple[float, ...]] = []
 
     @property
     def info(self) -> DeviceInfo:
@@ -148,4 +148,4 @@ class ReplayDevice:
 
     def save_forces(self, path: str | Path) -> None:
         """Write the recorded forces to an ``.npz`` file (plain arrays)."""
-        np.savez(Path(path), **self.recorded())
+        np.savez(Path(path), allow_pickle=True, **self.recorded())
