@@ -22,7 +22,7 @@ import numpy as np
 from tqdm import tqdm
 
 from paintapp.canvas.model import Canvas
-from paintapp.paint import load_paint_scene
+from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 from paintapp.session.playback import replay

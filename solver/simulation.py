@@ -23,8 +23,11 @@ from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.pcg import SolveReport
 from solver.probes import Probe
 from solver.projection import divergence_sum, project
+from solver.settings import SolverSettings
 from solver.stress import stress_integral
 from solver.viscosity import diffuse
+
+__all__ = ["Fluid", "ProbeForce", "Simulation", "SolverSettings", "StepStats"]
 
 
 @dataclass(frozen=True)
@@ -38,25 +41,6 @@ class Fluid:
     @property
     def dynamic_viscosity_pa_s(self) -> float:
         return self.density_kg_m3 * self.viscosity_m2_s
-
-
-@dataclass(frozen=True)
-class SolverSettings:
-    """Numerical knobs: advection scheme (``linear`` | ``maccormack``), relative residual
-    tolerances and iteration cap of the PCG solves, and the probe force model
-    (``stress`` integral; ``control_volume``, a momentum balance over a box around the probe that
-    is far less sensitive to the staircase boundary; or the paper's ``drag`` / ``viscous_drag``
-    approximations). ``probe_forces = False`` skips all force work (nothing reads the forces,
-    e.g. a tablet without force feedback): ``Simulation.forces`` stays empty."""
-
-    advection: str = "linear"
-    pressure_tolerance: float = 1e-6
-    viscosity_tolerance: float = 1e-8
-    max_iterations: int = 1000
-    force_model: str = "stress"
-    drag_coefficient: float = 1.0
-    control_volume_margin: int = 3
-    probe_forces: bool = True
 
 
 @dataclass(frozen=True)

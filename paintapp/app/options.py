@@ -9,7 +9,7 @@ from paintapp.app.haptic_link import DeviceSpec
 from paintapp.app.recovery import default_recovery_dir
 from paintapp.app.settings import PaintSettings
 from paintapp.canvas.model import Canvas
-from paintapp.paint import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 
 #: A new canvas: pixels and metres (0.25 mm texels, as the demo's).
 DEFAULT_PIXELS = (720, 480)

@@ -50,7 +50,7 @@ from paintapp.app.slab import MixingSlab
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import ForceChannel, LatestValue
-from paintapp.paint import PaintScene
+from paintapp.paint.paint_scene import PaintScene
 from paintapp.strokes.records import StrokeHeader
 
 #: Longest session time one sample may advance, s.

@@ -25,8 +25,7 @@ import numpy as np
 
 from paintapp.bench.measure import Measurement
 from paintapp.bench.registry import Family
-from paintapp.paint import load_paint_scene
-from paintapp.paint.paint_scene import FULL_MODEL
+from paintapp.paint.paint_scene import FULL_MODEL, load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.compare import ReplaySnapshot, compare_replays, snapshot
 from paintapp.session.explain import choice_summary

@@ -15,10 +15,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tqdm import tqdm
-
 from common.errors import InputError
-from paintapp.atomic import atomic_write_text
 
 if TYPE_CHECKING:
     from paintapp.bench.registry import Registry
@@ -50,6 +47,9 @@ def bench_registry() -> Registry:
 
 def run(args: argparse.Namespace) -> int:
     # imported here: scipy.signal and the benchmark modules are slow to load for other commands
+    from tqdm import tqdm
+
+    from paintapp.atomic import atomic_write_text
     from paintapp.bench.report import format_table, json_ready, plot_pareto
 
     registry = bench_registry()

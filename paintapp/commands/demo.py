@@ -15,13 +15,8 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
 from common.errors import InputError
 from paintapp.commands.replay import add_replay_options, print_explanation, replay_with_progress
-from paintapp.resources import asset_path
-from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
-from paintapp.strokes.files import read_strokes
 
 DEMO_STROKES = ("strokes", "demo.jsonl")
 
@@ -43,6 +38,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from paintapp.resources import asset_path
+    from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
+    from paintapp.strokes.files import read_strokes
+
     start = time.perf_counter()
     source = args.strokes or asset_path(*DEMO_STROKES)
     if args.out.exists() and not args.out.is_dir():

@@ -9,9 +9,6 @@ from __future__ import annotations
 
 import argparse
 
-from paintapp.haptics.devices.catalog import builtin_devices, hid_listing, probe_hid
-from paintapp.haptics.devices.hid_transport import parse_ids
-
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("devices", help="list haptic devices: simulated, replay and HID (hidapi)")
@@ -22,6 +19,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from paintapp.haptics.devices.catalog import builtin_devices, hid_listing, probe_hid
+    from paintapp.haptics.devices.hid_transport import parse_ids
+
     if args.probe or args.path:
         ids = parse_ids(args.probe) if args.probe else (None, None)
         path = args.path.encode() if args.path else None

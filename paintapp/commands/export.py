@@ -11,14 +11,15 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from common.errors import InputError
-from paintapp.canvas.exr import read_canvas_exr, read_exr_rgba, unlit_rgba, write_canvas_exr
-from paintapp.canvas.model import Canvas
-from paintapp.canvas.preview import write_preview_png
-from paintapp.pigments.library import PigmentLibrary, load_pigment_library
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from paintapp.canvas.model import Canvas
+    from paintapp.pigments.library import PigmentLibrary
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -76,6 +77,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _picture(args: argparse.Namespace, canvas: Canvas, library: PigmentLibrary) -> np.ndarray:
     """The RGBA picture (H, W, 4), row 0 = bottom, as the options ask."""
+    from paintapp.canvas.exr import read_exr_rgba, unlit_rgba
+
     if args.keep_picture:
         return read_exr_rgba(args.canvas)
     if args.flat:
@@ -96,6 +99,10 @@ def _picture(args: argparse.Namespace, canvas: Canvas, library: PigmentLibrary) 
 
 
 def run(args: argparse.Namespace) -> int:
+    from paintapp.canvas.exr import read_canvas_exr, write_canvas_exr
+    from paintapp.canvas.preview import write_preview_png
+    from paintapp.pigments.library import load_pigment_library
+
     outputs = [args.out, *([args.preview] if args.preview else [])]
     for out in outputs:
         if out.suffix.lower() not in (".exr", ".png"):

@@ -10,16 +10,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from tqdm import tqdm
-
 from common.errors import InputError
-from paintapp.bench.servo_check import format_table, load_simulation, run_once
-from paintapp.haptics.filters import FILTER_KINDS, FilterConfig
-from paintapp.haptics.fluid import FluidConfig
-from paintapp.haptics.servo import ServoConfig
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from paintapp.haptics.filters import FILTER_KINDS
+
     p = sub.add_parser(
         "haptics-check",
         help="run the 1 kHz haptic servo loop (simulated device) idle and under load; print timing",
@@ -32,6 +28,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from paintapp.bench.servo_check import format_table, load_simulation, run_once
+    from paintapp.haptics.filters import FilterConfig
+    from paintapp.haptics.fluid import FluidConfig
+    from paintapp.haptics.servo import ServoConfig
+
     if not 0.1 <= args.seconds <= 600:
         raise InputError(f"--seconds must be between 0.1 and 600, got {args.seconds}")
     config = ServoConfig(

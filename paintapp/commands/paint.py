@@ -13,14 +13,13 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from common.errors import InputError
-from paintapp.app.haptic_link import parse_device
-from paintapp.app.launch import NO_DISPLAY, display_available
-from paintapp.app.options import PaintOptions
-from paintapp.app.recovery import default_recovery_dir
-from paintapp.app.settings import PaintSettings, brush_names
-from paintapp.paint import FLUID_MODELS, load_paint_scene
+from paintapp.paint.paint_scene import FLUID_MODELS, load_paint_scene
+
+if TYPE_CHECKING:
+    from paintapp.app.options import PaintOptions
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,6 +52,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def options_from_args(args: argparse.Namespace) -> PaintOptions:
     """Validate the arguments into :class:`PaintOptions` (InputError on bad values)."""
+    from paintapp.app.haptic_link import parse_device
+    from paintapp.app.options import PaintOptions
+    from paintapp.app.recovery import default_recovery_dir
+    from paintapp.app.settings import PaintSettings, brush_names
+
     if args.brush not in brush_names():
         raise InputError(f"unknown brush {args.brush!r}; known: {', '.join(brush_names())}")
     if args.record is not None and args.record.exists() and not args.overwrite:
@@ -78,6 +82,8 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
 
 
 def run(args: argparse.Namespace) -> int:
+    from paintapp.app.launch import NO_DISPLAY, display_available
+
     if not display_available():
         print(f"paintapp paint: {NO_DISPLAY}", file=sys.stderr)
         return 2

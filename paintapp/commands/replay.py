@@ -16,16 +16,15 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-
-from tqdm import tqdm
+from typing import TYPE_CHECKING
 
 from common.errors import InputError
-from paintapp.paint import load_paint_scene
 from paintapp.paint.fidelity import FIDELITIES, FIDELITY_NAMES
-from paintapp.session.explain import explain_session
-from paintapp.session.outputs import write_canvas_outputs, write_forces_csv
-from paintapp.session.playback import REPLAY_DEVICES, ReplayResult, replay
-from paintapp.strokes.files import StrokeFile, read_strokes
+from paintapp.paint.paint_scene import load_paint_scene
+
+if TYPE_CHECKING:
+    from paintapp.session.playback import ReplayResult
+    from paintapp.strokes.files import StrokeFile
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -44,6 +43,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def add_replay_options(parser: argparse.ArgumentParser) -> None:
     """Options shared by ``replay`` and ``demo``."""
+    from paintapp.session.replay_devices import REPLAY_DEVICES
+
     parser.add_argument(
         "--scene",
         metavar="NAME|FILE.toml",
@@ -84,6 +85,10 @@ def replay_with_progress(
     device: str | None = None,
 ) -> ReplayResult:
     """Replay with a progress bar on stderr; warns about a truncated file."""
+    from tqdm import tqdm
+
+    from paintapp.session.playback import replay
+
     if strokes.truncated:
         print(f"warning: {strokes.source}: {strokes.warning}", file=sys.stderr)
     if scene_name is not None:
@@ -101,6 +106,8 @@ def replay_with_progress(
 
 def print_explanation(result: ReplayResult, fidelity: str | None) -> None:
     """Print the ``--explain`` report of a replay."""
+    from paintapp.session.explain import explain_session
+
     s = result.session.scene
     name = fidelity or "standard"
     header = (
@@ -113,6 +120,9 @@ def print_explanation(result: ReplayResult, fidelity: str | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from paintapp.session.outputs import write_canvas_outputs, write_forces_csv
+    from paintapp.strokes.files import read_strokes
+
     check_suffix(args.out, ".exr", "canvas output")
     check_suffix(args.preview, ".png", "preview")
     check_suffix(args.forces, ".csv", "forces output")

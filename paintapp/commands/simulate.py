@@ -6,14 +6,6 @@ import argparse
 import json
 import sys
 
-import numpy as np
-from tqdm import tqdm
-
-from paintapp.atomic import atomic_write_text
-from solver.plan import explain
-from solver.runner import NonFiniteError, run_scene
-from solver.scene import load_scene
-
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("simulate", help="run a scene file (TOML) and write its results as JSON")
@@ -29,6 +21,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from paintapp.atomic import atomic_write_text
+    from solver.plan import explain
+    from solver.runner import NonFiniteError, run_scene
+    from solver.scene import load_scene
+
     scene = load_scene(args.scene)
     if args.steps is not None:
         if args.steps < 1:
@@ -58,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _summarise(results: dict) -> None:
+    import numpy as np
+
     t = results["timing"]
     print(
         f"median step {t['median_step_ms']:.3f} ms; pressure PCG "

@@ -33,7 +33,6 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 from common.errors import InputError
 
@@ -144,6 +143,8 @@ def fir_taps(
     if int(order) != order or order < 1:
         raise InputError(f"FIR order must be a positive integer, got {order}", key="order")
     numtaps = int(order) + 1
+    from scipy import signal  # here: the servo process starts without loading scipy until a FIR
+
     try:
         if cutoff_hz is None:
             taps = signal.get_window(window, numtaps, fftbins=False)

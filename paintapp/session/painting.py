@@ -42,8 +42,9 @@ from brushes import BrushPreset, PaintReservoir, StylusSample, TipPose, TipTrack
 from brushes.presets import load_preset_named
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
-from paintapp.paint import PaintModel, PaintScene, PaintStep, load_paint_scene
 from paintapp.paint.choice import ChoiceStats, TimedDecision, needs_for_device
+from paintapp.paint.model import PaintModel, PaintStep
+from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.paint.selector import ModelSelector
 from paintapp.resources import asset_path
 from paintapp.strokes.records import CleanBrush, LoadPigment, Marker, StrokeRecord, SwitchBrush

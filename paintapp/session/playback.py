@@ -13,7 +13,7 @@ The force trace is the loop's tick log: per tick, its time and the force and tor
 the device* (filtered, scaled by the force scale, made safe), in the canvas frame.
 
 The device the replay plays on is a simulated 6-DOF stylus by default; ``device`` names another
-(:data:`REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
+(:data:`~paintapp.session.replay_devices.REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
 then models no more than that device reads. ``fidelity`` replays with the fluid settings of a
 preset (:mod:`paintapp.paint.fidelity`) applied on top of the scene.
 """
@@ -24,7 +24,7 @@ import contextlib
 import math
 import time
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -35,12 +35,12 @@ from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.device import DeviceInfo
-from paintapp.haptics.devices.simulated import SIMULATED_INFO
 from paintapp.haptics.devices.stroke_player import ReplayDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
-from paintapp.paint import PaintScene, load_paint_scene
 from paintapp.paint.fidelity import apply_fidelity
+from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.session.painting import PaintingSession
+from paintapp.session.replay_devices import replay_device
 from paintapp.strokes.files import StrokeFile, StrokeHeader
 
 #: Columns of a force trace (and of the forces CSV).
@@ -53,28 +53,6 @@ FORCE_COLUMNS = (
     "torque_y_nm",
     "torque_z_nm",
 )
-
-
-#: Devices a replay can play on, by name: what they output decides what the session models.
-REPLAY_DEVICES: dict[str, DeviceInfo] = {
-    "6dof": SIMULATED_INFO,
-    "3dof": replace(
-        SIMULATED_INFO, name="simulated 3-DOF stylus", dof_actuated=3, max_torque_nm=0.0
-    ),
-    "tablet": replace(
-        SIMULATED_INFO, name="pen tablet (no force feedback)", dof_actuated=0,
-        max_force_n=0.0, max_torque_nm=0.0,
-    ),
-}  # fmt: skip
-
-
-def replay_device(name: str) -> DeviceInfo:
-    """The replay device called ``name``; :class:`InputError` for an unknown one."""
-    if name not in REPLAY_DEVICES:
-        raise InputError(
-            f"unknown device {name!r}; expected one of {', '.join(REPLAY_DEVICES)}", key="device"
-        )
-    return REPLAY_DEVICES[name]
 
 
 class ServoForcePath:
@@ -180,7 +158,7 @@ def replay(
         progress: called with 1 after each record (a progress bar's ``update``).
         brush_dir: where the named brush presets are (default: the bundled ones).
         fidelity: ``draft``, ``standard`` or ``high`` on top of the scene (None: as written).
-        device: the device played on, by name (:data:`REPLAY_DEVICES`) or capabilities
+        device: the device played on, by name (:data:`~paintapp.session.replay_devices.REPLAY_DEVICES`) or capabilities
             (default: a simulated 6-DOF stylus).
     """
     start = time.perf_counter()

@@ -64,10 +64,8 @@ def test_probe_reports_the_protocol_a_device_speaks(
 def test_haptics_check_prints_idle_and_loaded_figures_side_by_side(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
-    from paintapp.commands import haptics_check
-
     workload = (check.synthetic_workload(cells=24, sweeps=2), "synthetic 3D numpy workload")
-    monkeypatch.setattr(haptics_check, "load_simulation", lambda: workload)
+    monkeypatch.setattr(check, "load_simulation", lambda: workload)
     assert main(["haptics-check", "--seconds", "0.3"]) == 0
     out = capsys.readouterr().out
     header = next(line for line in out.splitlines() if "idle" in line)

@@ -13,12 +13,12 @@ from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.cli import main
 from paintapp.haptics.channel import ForceChannel
-from paintapp.paint import load_paint_scene
 from paintapp.paint.fit import fit_grid, full_grid
-from paintapp.paint.paint_scene import FULL_MODEL, ModelChoice, parse_paint_scene
+from paintapp.paint.paint_scene import FULL_MODEL, ModelChoice, load_paint_scene, parse_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
-from paintapp.session.playback import REPLAY_DEVICES, ServoForcePath
+from paintapp.session.playback import ServoForcePath
+from paintapp.session.replay_devices import REPLAY_DEVICES
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 BLUE, YELLOW = "ultramarine_blue", "cadmium_yellow"

@@ -10,16 +10,12 @@ import pytest
 from brushes import StylusSample, TipTracker, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
-from paintapp.paint import (
-    MODELS,
-    PaintGrid3D,
-    brush_width_m,
-    load_paint_scene,
-    make_paint_model,
-)
 from paintapp.paint.columns import ColumnWindow, cell_texels
+from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.kernels import fill_columns
-from paintapp.paint.paint_scene import parse_paint_scene
+from paintapp.paint.model import brush_width_m
+from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
+from paintapp.paint.selector import MODEL_CLASSES
 from paintapp.resources import asset_path
 
 BRUSHES = asset_path("brushes")
@@ -151,8 +147,8 @@ def test_the_scene_chooses_the_paint_model():
     ):
         scene = load_paint_scene(name)
         assert scene.fluid_model == expected
-        model = make_paint_model(scene, canvas, preset)
-        assert isinstance(model, MODELS[expected])
+        model = MODEL_CLASSES[scene.fluid_model](scene, canvas, preset)
+        assert isinstance(model, MODEL_CLASSES[expected])
 
 
 def test_a_bad_scene_names_the_key():

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from paintapp.canvas.model import Canvas
-from paintapp.paint import PaintScene, load_paint_scene
+from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 

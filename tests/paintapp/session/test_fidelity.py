@@ -11,8 +11,8 @@ import pytest
 from common.errors import InputError
 from paintapp.canvas.exr import read_canvas_exr
 from paintapp.cli import main
-from paintapp.paint import load_paint_scene
 from paintapp.paint.fidelity import FIDELITY_NAMES, apply_fidelity, get_fidelity
+from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.session.compare import compare_replays, snapshot
 from paintapp.session.outputs import read_forces_csv
 from paintapp.session.playback import replay

@@ -11,7 +11,7 @@ from brushes import StylusSample
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
-from paintapp.paint import load_paint_scene
+from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.session.painting import PaintingSession
 from paintapp.strokes.files import CleanBrush, LoadPigment, SwitchBrush
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
