@@ -83,3 +83,13 @@ def test_stroke_events_load_switch_and_clean_the_brush():
     assert session.reservoir.is_empty
     with pytest.raises(InputError, match="unknown brush preset"):
         session.handle(SwitchBrush(0.4, "no_such_brush"))
+
+
+def test_step_times_are_kept_for_the_most_recent_steps_only():
+    from paintapp.session.painting import STEP_TIMES_KEPT, SessionStats
+
+    stats = SessionStats()
+    for i in range(STEP_TIMES_KEPT + 500):
+        stats.step_ms.append(float(i))
+    assert len(stats.step_ms) == STEP_TIMES_KEPT
+    assert stats.step_ms[0] == 500.0 and stats.step_ms[-1] == STEP_TIMES_KEPT + 499.0
