@@ -58,7 +58,7 @@ def bench_step(scene_name: str, pixels: int, steps: int) -> dict[str, float]:
                       0.8, (0.2, 0.0))  # fmt: skip
     rows = []
     for i, sample in enumerate(tqdm(stroke_samples(spec, 0.0), desc=f"{scene_name} {pixels}",
-                                    leave=False, file=sys.stderr)):  # fmt: skip
+                                    leave=False, file=sys.stderr, disable=None)):  # fmt: skip
         step = session.sample(sample)
         if i >= 8 and step.paint is not None:
             rows.append(step.paint)

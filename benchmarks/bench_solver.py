@@ -49,7 +49,7 @@ def bench(dim: int, n: int, steps: int, advection: str) -> dict[str, float]:
     for _ in range(3):
         sim.step(dt)
     rows = []
-    for _ in tqdm(range(steps), desc=f"{dim}D {n}", leave=False, file=sys.stderr):
+    for _ in tqdm(range(steps), desc=f"{dim}D {n}", leave=False, file=sys.stderr, disable=None):
         rows.append(sim.step(dt))
     out = {"step": statistics.median(r.step_ms for r in rows)}
     for key in rows[0].substep_ms:

@@ -23,7 +23,7 @@ from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.pcg import SolveReport
 from solver.probes import Probe
 from solver.projection import divergence_sum, project
-from solver.settings import SolverSettings
+from solver.solver_settings import SolverSettings
 from solver.stress import stress_integral
 from solver.viscosity import diffuse
 

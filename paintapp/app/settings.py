@@ -16,7 +16,7 @@ from brushes.presets import list_presets, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
-from paintapp.paint.model import brush_width_m
+from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import FLUID_MODELS, PaintScene, load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession

@@ -1,7 +1,7 @@
 """``paintapp bench``: cost against accuracy over the knobs that trade one for the other.
 
 Modules: :mod:`~paintapp.bench.registry` (families, settings, running them),
-:mod:`~paintapp.bench.solver_families` and :mod:`~paintapp.bench.painting` (the families the
+:mod:`~paintapp.bench.solver_families` and :mod:`~paintapp.bench.painting_families` (the families the
 command composes), :mod:`~paintapp.bench.noise` (the force-noise definition),
 :mod:`~paintapp.bench.measure` (step time and memory), :mod:`~paintapp.bench.references` (Ghia
 cavity, Schaefer-Turek c_D, Taylor-Green decay), :mod:`~paintapp.bench.square_sweep` and

@@ -4,7 +4,7 @@ A *family* is one accuracy reference with a function that runs a setting of the 
 a :class:`~paintapp.bench.measure.Measurement`; it lists the knob changes it adds to ``--quick``
 and to the full sweep. A :class:`Registry` holds the families a run knows about: ``paintapp
 bench`` composes it from the solver families (:mod:`paintapp.bench.solver_families`) and the
-painting families (:mod:`paintapp.bench.painting`), so neither depends on the other.
+painting families (:mod:`paintapp.bench.painting_families`), so neither depends on the other.
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def bench_registry() -> Registry:
     """The families ``paintapp bench`` runs: the solver's, then the painting replays'."""
-    from paintapp.bench.painting import painting_families
+    from paintapp.bench.painting_families import painting_families
     from paintapp.bench.registry import Registry
     from paintapp.bench.solver_families import solver_families
 
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"expected a file name, got {path!r}", key=flag)
     start = time.perf_counter()
     records = []
-    bar = tqdm(settings, unit="setting", file=sys.stderr, leave=False)
+    bar = tqdm(settings, unit="setting", file=sys.stderr, disable=None, leave=False)
     for setting in bar:
         bar.set_postfix_str(setting.label)
         records.append(registry.run_setting(setting))

@@ -99,7 +99,12 @@ def replay_with_progress(
         except InputError as exc:
             raise InputError(exc.message, strokes.source, "scene", 1) from None
     with tqdm(
-        total=len(strokes.records), unit="record", desc="replay", file=sys.stderr, leave=False
+        total=len(strokes.records),
+        unit="record",
+        desc="replay",
+        file=sys.stderr,
+        disable=None,
+        leave=False,
     ) as bar:
         return replay(strokes, scene, progress=bar.update, fidelity=fidelity, device=device)
 

@@ -43,7 +43,9 @@ def run(args: argparse.Namespace) -> int:
     if args.explain:
         for decision in explain(scene.build(), scene.run.dt_s):
             print(f"  {decision.topic}: {decision.chosen}\n      because {decision.reason}")
-    with tqdm(total=scene.run.steps, unit="step", file=sys.stderr, leave=False) as bar:
+    with tqdm(
+        total=scene.run.steps, unit="step", file=sys.stderr, disable=None, leave=False
+    ) as bar:
         try:
             results = run_scene(scene, progress=bar.update)
         except NonFiniteError as exc:

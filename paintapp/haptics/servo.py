@@ -30,8 +30,8 @@ from paintapp.haptics.device import DeviceError, DeviceState, HapticDevice
 from paintapp.haptics.filters import FilterConfig
 from paintapp.haptics.fluid import FluidConfig, FluidForceInput
 from paintapp.haptics.metrics import TimingReport
-from paintapp.haptics.recorder import TickLog
 from paintapp.haptics.safety import ForceSafety, SafetyConfig
+from paintapp.haptics.tick_log import TickLog
 from paintapp.haptics.velocity import VelocityEstimator
 
 _ZERO3 = np.zeros(3)

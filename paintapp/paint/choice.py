@@ -19,7 +19,7 @@ decision with its reason. The rules, in order:
    rest; the paint itself lives on the canvas, so none is lost.
 4. **Grid size** (``fit_grid``): :mod:`paintapp.paint.fit`; refitted when the brush leans past
    what the fit allowed.
-5. **Outputs.** :class:`~paintapp.paint.model.ForceNeeds` from the device: no force work at
+5. **Outputs.** :class:`~paintapp.paint.paint_model.ForceNeeds` from the device: no force work at
    all for an input-only device, no torque for a device without torque output.
 6. **Pigment channels** (``used_pigments``): only those in the window or the brush, per step
    (in the models).
@@ -36,7 +36,7 @@ import numpy as np
 from paintapp.canvas.model import Canvas
 from paintapp.paint.columns import square_texel_m
 from paintapp.paint.fit import GridFit
-from paintapp.paint.model import ForceNeeds
+from paintapp.paint.paint_model import ForceNeeds
 from solver.plan import Decision
 
 if TYPE_CHECKING:

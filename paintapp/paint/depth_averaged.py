@@ -37,7 +37,7 @@ from paintapp.paint.exchange import (
     deposit_volume,
     exchange_with_brush,
 )
-from paintapp.paint.model import (
+from paintapp.paint.paint_model import (
     ForceNeeds,
     PaintModel,
     PaintStep,
@@ -72,9 +72,9 @@ def padded_faces(
         cq, ct = np.zeros(shape), np.full(shape, BOUNDARY, dtype=np.int8)
         cq[1:-1, 1:-1], ct[1:-1, 1:-1] = q, t
         for end in (0, -1):
-            face = [slice(1, -1), slice(1, -1)]
+            face: list[slice | int] = [slice(1, -1), slice(1, -1)]
             face[a] = 1 if end == 0 else shape[a] - 2
-            cells = [slice(1, -1), slice(1, -1)]
+            cells: list[slice | int] = [slice(1, -1), slice(1, -1)]
             cells[a] = 0 if end == 0 else halo_open.shape[a] - 1
             closed = ~halo_open[tuple(cells)]
             ct[tuple(face)][closed] = BOUNDARY

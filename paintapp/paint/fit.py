@@ -26,7 +26,7 @@ import numpy as np
 
 from brushes import BrushPreset, TipPose
 from paintapp.paint.columns import cell_texels
-from paintapp.paint.model import brush_width_m
+from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import PaintScene
 
 #: Extra lean (rad) a fitted grid allows beyond the tilt it was fitted at.

@@ -29,7 +29,7 @@ from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, exchange_with_brush
 from paintapp.paint.kernels import fill_columns
-from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
+from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.paint_scene import PaintScene
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid

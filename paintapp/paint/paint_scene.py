@@ -46,7 +46,7 @@ from pathlib import Path
 from common.errors import InputError
 from common.tables import Table
 from paintapp.resources import asset_path
-from solver.settings import SolverSettings
+from solver.solver_settings import SolverSettings
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")

@@ -22,7 +22,7 @@ from paintapp.paint.columns import square_texel_m
 from paintapp.paint.depth_averaged import PaintGridDepthAveraged
 from paintapp.paint.fit import GridFit, fit_grid, full_grid, lean_rad, section_radius_m
 from paintapp.paint.grid3d import PaintGrid3D
-from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep
+from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.stamp import StampModel
 from solver.plan import Decision, explain
@@ -177,7 +177,8 @@ class ModelSelector:
             return s.fluid_model, "the scene's fluid_model"
         c = s.choose
         radius = section_radius_m(self.preset, s.max_height_m + self.preset.pressure.depth_m)
-        layer = layer_thickness_m(self.canvas, *map(float, pose.position_m[:2]), radius)
+        x, y = map(float, pose.position_m[:2])
+        layer = layer_thickness_m(self.canvas, x, y, radius)
         mm = f"paint layer {layer * 1e3:.3g} mm"
         current = None if old is None or old.dry else old.fluid
         if current == "grid3d" and layer >= c.thin_below_m:
@@ -209,7 +210,8 @@ class ModelSelector:
         st.steps[kind] += 1
         st.grids[plan.label] += 1
         st.solver_steps[kind] += step.solver_steps
-        st.step_ms[kind] += step.step_ms
+        # A Counter of float milliseconds: typeshed types Counter values as int only.
+        st.step_ms[kind] += step.step_ms  # type: ignore[assignment]
         if not plan.dry and plan.fluid != "none":
             st.channels[step.channels] += 1
             if plan.fluid not in self._explained and getattr(self.model, "sim", None) is not None:

@@ -17,7 +17,7 @@ from brushes.probe import voxelize
 from common.tilt import yaw_angle
 from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import ExchangeReport, deposit_volume
-from paintapp.paint.model import ForceNeeds, PaintModel, PaintStep, section_height_m
+from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, section_height_m
 from paintapp.paint.paint_scene import PaintScene
 
 

@@ -44,7 +44,7 @@ from brushes.presets import load_preset_named
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
 from paintapp.paint.choice import ChoiceStats, TimedDecision, needs_for_device
-from paintapp.paint.model import PaintModel, PaintStep
+from paintapp.paint.paint_model import PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.paint.selector import ModelSelector
 from paintapp.resources import asset_path

@@ -13,7 +13,7 @@ from paintapp.canvas.model import Canvas
 from paintapp.paint.columns import ColumnWindow, cell_texels
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.kernels import fill_columns
-from paintapp.paint.model import brush_width_m
+from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.paint.selector import MODEL_CLASSES
 from paintapp.resources import asset_path

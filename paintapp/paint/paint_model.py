@@ -161,7 +161,9 @@ class PaintModel(ABC):
         used = [p for p, n in enumerate(names) if held.get(n, 0.0) > 0.0 or columns[p].any()]
         return np.array(used, dtype=np.intp)
 
-    def tip_output(self, force_n: np.ndarray, torque_nm: np.ndarray) -> tuple[np.ndarray, ...]:
+    def tip_output(
+        self, force_n: np.ndarray, torque_nm: np.ndarray | float
+    ) -> tuple[np.ndarray, ...]:
         """Force and torque as published: zero where nothing reads them."""
         force = np.asarray(force_n, dtype=float).copy() if self.needs.force else np.zeros(3)
         keep = self.needs.force and self.needs.torque
