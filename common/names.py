@@ -10,13 +10,13 @@
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import Any, TypeGuard
 
 PIGMENT_NAME = re.compile(r"^[a-z][a-z0-9_]{0,47}$")
 PRESET_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
 
-def is_pigment_name(value: Any) -> bool:
+def is_pigment_name(value: Any) -> TypeGuard[str]:
     """True when ``value`` is a valid pigment name."""
     return isinstance(value, str) and PIGMENT_NAME.match(value) is not None
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from PySide6.QtCore import Qt
@@ -164,14 +165,14 @@ class ControlsPanel(QWidget):
         self.brush.addItems(brush_names())
         self.brush.setCurrentText(self.settings.brush)
         self.brush.currentTextChanged.connect(lambda t: self._change(brush=t))
-        self.size = _slider(50, 200, round(100 * self.settings.brush_scale))
-        self.size.valueChanged.connect(lambda v: self._change(brush_scale=v / 100))
+        self.brush_size = _slider(50, 200, round(100 * self.settings.brush_scale))
+        self.brush_size.valueChanged.connect(lambda v: self._change(brush_scale=v / 100))
         self.load = _slider(5, 100, round(100 * self.settings.load_fraction))
         self.load.valueChanged.connect(lambda v: self._change(load_fraction=v / 100))
         self.pressure = _slider(5, 100, round(100 * self.mouse_pressure))
         self.pressure.valueChanged.connect(self._view_changed)
         form.addRow("preset", self.brush)
-        form.addRow("size", self.size)
+        form.addRow("size", self.brush_size)
         form.addRow("paint load", self.load)
         form.addRow("mouse pressure", self.pressure)
         return box
@@ -221,7 +222,7 @@ class ControlsPanel(QWidget):
         else:
             self.handlers["pigment"](name)
 
-    def _change(self, **changes: object) -> None:
+    def _change(self, **changes: Any) -> None:
         self.settings = replace(self.settings, **changes)
         self.handlers["settings"](self.settings)
 
@@ -248,12 +249,12 @@ class ControlsPanel(QWidget):
     def show_settings(self, settings: PaintSettings, lighting: Lighting) -> None:
         """Show values changed by shortcuts, without calling the handlers."""
         self.settings, self.lighting = settings, lighting
-        widgets = (self.brush, self.size, self.load, self.model, self.force, self.azimuth)
+        widgets = (self.brush, self.brush_size, self.load, self.model, self.force, self.azimuth)
         for w in widgets:
             w.blockSignals(True)
         try:
             self.brush.setCurrentText(settings.brush)
-            self.size.setValue(round(100 * settings.brush_scale))
+            self.brush_size.setValue(round(100 * settings.brush_scale))
             self.load.setValue(round(100 * settings.load_fraction))
             self.model.setCurrentIndex(list(MODEL_LABELS).index(settings.fluid_model))
             self.force.setValue(round(10 * settings.force_scale))

@@ -12,8 +12,10 @@ Threads (none waits on another; they exchange the latest state):
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
@@ -100,7 +102,7 @@ class PaintWindow(QMainWindow):
             self.worker.status.get, self.hud_data, self.canvas_widget.mapping, self.canvas_widget
         )
         self.help = HelpOverlay(self.canvas_widget)
-        handlers = {
+        handlers: dict[str, Callable[..., Any]] = {
             "pigment": self.load_pigment,
             "clean": self.clean_brush,
             "slab_put": self.slab_put,

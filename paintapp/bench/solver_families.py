@@ -19,8 +19,10 @@ _QUICK_SWEEP = {"reference_cells": 64}
 
 
 def _cavity() -> Family:
+    quick: list[dict[str, Any]]
     quick = [{"cells": c, "advection": a} for c in (16, 32) for a in ("linear", "maccormack")]
     quick += [{"pressure_tolerance": 1e-2, "max_iterations": 5}]
+    full: list[dict[str, Any]]
     full = [{"cells": c, "advection": a} for c in (16, 32, 64) for a in ("linear", "maccormack")]
     full += [
         {"pressure_tolerance": t, "max_iterations": m} for t in (1e-2, 1e-4) for m in (5, 1000)
@@ -35,6 +37,7 @@ def _cavity() -> Family:
 
 def _taylor_green() -> Family:
     quick = [{"cells": c} for c in (16, 32)] + [{"advection": "linear"}]
+    full: list[dict[str, Any]]
     full = [{"cells": c, "advection": a} for c in (16, 32, 64) for a in ("linear", "maccormack")]
     full += [{"pressure_tolerance": t} for t in (1e-2, 1e-4)]
     return Family(
@@ -47,6 +50,7 @@ def _taylor_green() -> Family:
 
 def _schaefer_turek() -> Family:
     quick = [{"force_model": m} for m in ("stress", "control_volume")]
+    full: list[dict[str, Any]]
     full = [{"force_model": m} for m in ("stress", "control_volume", "drag", "viscous_drag")]
     full += [{"advection": "linear"}]
     full += [{"dh": 20, "force_model": m} for m in ("stress", "control_volume")]

@@ -177,10 +177,10 @@ def read_canvas_exr(path: str | Path) -> Canvas:
         raise InputError("paint height must be >= 0 and concentrations in [0, 1]", source, HEIGHT)
     if np.any((wetness < 0) | (wetness > 1.001)):
         raise InputError("wetness must be in [0, 1]", source, WETNESS)
-    conc = np.stack(conc).reshape(len(names), spec.height, spec.width)
-    total = conc.sum(axis=0)
+    fractions = np.stack(conc).reshape(len(names), spec.height, spec.width)
+    total = fractions.sum(axis=0)
     # Renormalise (16-bit fractions need not sum to 1) so the 32-bit height survives exactly.
-    paint = conc * np.where(total > 0, height / np.where(total > 0, total, 1.0), 0.0)
+    paint = fractions * np.where(total > 0, height / np.where(total > 0, total, 1.0), 0.0)
     try:
         return Canvas(
             pixels=(spec.width, spec.height),

@@ -25,7 +25,8 @@ class RenderUnavailable(RuntimeError):
 def create_headless_context() -> moderngl.Context:
     """A standalone OpenGL 3.3+ context through EGL; raises :class:`RenderUnavailable`."""
     try:
-        return moderngl.create_standalone_context(backend="egl", require=330)
+        # moderngl's stubs type **settings as dict values; backend is a str.
+        return moderngl.create_standalone_context(backend="egl", require=330)  # type: ignore[arg-type]
     except Exception as exc:  # moderngl/glcontext raise plain Exceptions for missing drivers
         raise RenderUnavailable(f"cannot create a headless EGL OpenGL context: {exc}") from exc
 

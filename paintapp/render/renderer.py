@@ -111,22 +111,22 @@ class CanvasRenderer:
         k = np.zeros((MAX_PIGMENTS, self.bands.count), np.float32)
         s = np.zeros_like(k)
         k[:p], s[:p] = table.k_per_m, table.s_per_m
-        program["u_view"].write(view.matrix().T.copy().tobytes())
-        program["u_concentration"].value = 0
-        program["u_surface"].value = 1
-        program["u_canvas_size_m"].value = self._canvas_size_m
-        program["u_texel_m"].value = self._texel_m
-        program["u_pigment_count"].value = p
+        _uniform(program, "u_view").write(view.matrix().T.copy().tobytes())
+        _uniform(program, "u_concentration").value = 0
+        _uniform(program, "u_surface").value = 1
+        _uniform(program, "u_canvas_size_m").value = self._canvas_size_m
+        _uniform(program, "u_texel_m").value = self._texel_m
+        _uniform(program, "u_pigment_count").value = p
         _write_vec4_array(program, "u_k", k)
         _write_vec4_array(program, "u_s", s)
         _write_vec4_array(program, "u_ground", table.ground)
         for i, channel in enumerate("rgb"):
             _write_vec4_array(program, f"u_band_{channel}", table.band_to_rgb[i])
         light = self.lighting
-        program["u_lighting"].value = light.enabled
-        program["u_light_dir"].value = tuple(float(v) for v in light.direction())
+        _uniform(program, "u_lighting").value = light.enabled
+        _uniform(program, "u_light_dir").value = tuple(float(v) for v in light.direction())
         for name in ("ambient", "relief", "specular", "shininess"):
-            program[f"u_{name}"].value = float(getattr(light, name))
+            _uniform(program, f"u_{name}").value = float(getattr(light, name))
 
     # --- drawing ------------------------------------------------------------------------------
     def _offscreen(self, size: tuple[int, int]) -> moderngl.Framebuffer:
@@ -134,7 +134,8 @@ class CanvasRenderer:
             if self._target is not None:
                 self._target.color_attachments[0].release()
                 self._target.release()
-            colour = self.ctx.renderbuffer(tuple(size), 4, dtype="f4")
+            w, h = size
+            colour = self.ctx.renderbuffer((w, h), 4, dtype="f4")
             self._target = self.ctx.framebuffer(color_attachments=[colour])
         return self._target
 
@@ -193,13 +194,13 @@ class CanvasRenderer:
             return
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        self._overlay["u_view"].write(view.matrix().T.copy().tobytes())
+        _uniform(self._overlay, "u_view").write(view.matrix().T.copy().tobytes())
         for triangles, color in shapes:
             if len(triangles) == 0:
                 continue
             buffer = self.ctx.buffer(triangles.tobytes())
             vao = self.ctx.vertex_array(self._overlay, [(buffer, "2f", "in_pos_m")])
-            self._overlay["u_color"].value = tuple(float(c) for c in color)
+            _uniform(self._overlay, "u_color").value = tuple(float(c) for c in color)
             vao.render(moderngl.TRIANGLES)
             vao.release()
             buffer.release()
@@ -232,11 +233,23 @@ class CanvasRenderer:
             self._target.release()
 
 
+def _as_uniform(member: object, name: str) -> moderngl.Uniform:
+    if not isinstance(member, moderngl.Uniform):
+        raise TypeError(f"{name!r} is a {type(member).__name__}, not a uniform")
+    return member
+
+
+def _uniform(program: moderngl.Program, name: str) -> moderngl.Uniform:
+    """The uniform ``name`` of ``program`` (KeyError if the program has no such member)."""
+    return _as_uniform(program[name], name)
+
+
 def _write_vec4_array(program: moderngl.Program, name: str, values: np.ndarray) -> None:
     """Write a vec4 array uniform; the GLSL compiler may trim unused tail elements, so the data
     is cut to the active length."""
-    uniform = program.get(name, None)
-    if uniform is None:  # optimised out entirely
+    member = program.get(name, None)
+    if member is None:  # optimised out entirely
         return
+    uniform = _as_uniform(member, name)
     data = np.asarray(values, np.float32).reshape(-1)[: 4 * uniform.array_length]
     uniform.write(data.tobytes())

@@ -32,10 +32,10 @@ class CanvasTextures:
     """GPU textures mirroring one canvas size and pigment count."""
 
     def __init__(self, ctx: moderngl.Context, pixels: tuple[int, int], pigment_count: int) -> None:
-        self.pixels = tuple(pixels)
+        w, h = pixels
+        self.pixels = (w, h)
         self.pigment_count = pigment_count
         self.layers = layer_count(pigment_count)
-        w, h = self.pixels
         self.concentration = ctx.texture_array((w, h, self.layers), 4, dtype="f2")
         self.surface = ctx.texture((w, h), 2, dtype="f4")
         for texture in (self.concentration, self.surface):
