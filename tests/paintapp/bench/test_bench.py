@@ -95,3 +95,12 @@ def test_a_registered_family_is_run_and_a_failing_setting_is_recorded():
     bad = registry.run_setting(Setting("fake", {"size": -1}))
     assert bad["failed"] == "ValueError: negative size"
     assert "FAILED" in format_table([good, bad])
+
+
+def test_only_takes_several_families_in_one_flag_or_repeated():
+    from paintapp.cli import build_parser
+
+    args = build_parser().parse_args(
+        ["bench", "--only", "cavity", "taylor_green", "--only", "rates"]
+    )
+    assert args.only == ["cavity", "taylor_green", "rates"]
