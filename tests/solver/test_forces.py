@@ -82,7 +82,10 @@ def test_stokes_force_and_torque_scale_with_viscosity(build, dim):
 @pytest.mark.parametrize("spin", [1.5, -1.5])
 def test_spinning_circle_torque_matches_circular_couette(spin):
     """A circle spinning inside a fixed ring: Stokes torque per unit depth
-    -4 pi mu omega R1^2 R2^2 / (R2^2 - R1^2)."""
+    -4 pi mu omega R1^2 R2^2 / (R2^2 - R1^2).
+
+    64 x 64, dt = 0.05 s, t = 1.5 s (steady: the torque no longer changes to 1e-15 relative):
+    measured 0.82 % below the exact torque, for either spin."""
     grid = Grid.from_size((1.0, 1.0), (64, 64))
     r1, r2, mu = 0.15, 0.45, 1.0
     ring = np.linalg.norm(grid.cell_centres()[..., :2] - 0.5, axis=-1) > r2
@@ -91,7 +94,7 @@ def test_spinning_circle_torque_matches_circular_couette(spin):
     exact = -4 * np.pi * mu * spin * r1**2 * r2**2 / (r2**2 - r1**2)
     torque = sim.forces["rotor"].torque
     assert np.sign(torque) == -np.sign(spin)
-    assert torque == pytest.approx(exact, rel=0.05)
+    assert torque == pytest.approx(exact, rel=0.011)  # measured -0.82 %
     assert np.abs(sim.forces["rotor"].force).max() < 1e-6 * abs(exact)
 
 

@@ -2,6 +2,9 @@
 
 * Lid-driven cavity, Re = 100, against Ghia, Ghia & Shin (1982), at 128 x 128.
 * Schaefer & Turek (1996) benchmark 2D-1 (cylinder in a channel, Re = 20), at D/h = 20.
+
+Each tolerance is the value measured in the test's own configuration (noted beside it) with a
+margin of about 1.3x, so a regression of a few tenths of a percent fails.
 """
 
 from __future__ import annotations
@@ -39,14 +42,15 @@ def test_lid_driven_cavity_matches_ghia_at_128():
     v = np.interp(list(GHIA_V), pts[:, 0], vel[:, 1])
     err_u = np.abs(u - np.array(list(GHIA_U.values()))).max()
     err_v = np.abs(v - np.array(list(GHIA_V.values()))).max()
-    assert err_u < 0.02 and err_v < 0.02  # measured: 0.0024 and 0.0072
+    # 128 x 128, MacCormack, dt = 0.01 s, t = 20 s: measured 0.00241 and 0.00719
+    assert err_u < 0.0032 and err_v < 0.0094
 
 
 @pytest.mark.slow
 def test_schaefer_turek_2d1_drag_and_pressure_difference():
     scene = load_scene(asset_path("scenes", "schaefer_turek_2d1.toml"))
     assert scene.settings.force_model == "control_volume"
-    scene.run = dataclasses.replace(scene.run, steps=400)  # 4 s: steady to 1e-4 in c_D
+    scene.run = dataclasses.replace(scene.run, steps=400)  # dt = 0.01 s, t = 4 s
     result = run_scene(scene)
     force = np.array(result["probes"]["cylinder"]["force"])
     surface = np.array(result["probes"]["cylinder"]["pressure_force"]) + np.array(
@@ -54,10 +58,13 @@ def test_schaefer_turek_2d1_drag_and_pressure_difference():
     )
     scale = 2.0 / (1.0 * 0.2**2 * 0.1)  # 2 / (rho U_mean^2 D)
     c_d, c_l = scale * force[-1, 0], scale * force[-1, 1]
+    # 440 x 82 (D/h = 20), control volume, measured at t = 4 s: c_D 5.6331 (+0.96 %), changing by
+    # -7.2e-4 over the last 0.49 s; c_L 0.01035 (-2.5 %); surface integral c_D 6.0068 (+7.7 %);
+    # dp 0.11106 (-5.5 %)
     assert abs(scale * (force[-1, 0] - force[-50, 0])) < 1e-3  # steady
-    assert c_d == pytest.approx(5.5795, rel=0.05)
-    assert abs(c_l) < 0.05
+    assert c_d == pytest.approx(5.5795, rel=0.0125)
+    assert c_l == pytest.approx(0.010619, rel=0.035)
     # the staircase surface integral of the paper is biased high at this resolution
     assert 5.5795 < scale * surface[-1, 0] < 1.10 * 5.5795
     dp = result["points"]["front"]["pressure"] - result["points"]["back"]["pressure"]
-    assert dp == pytest.approx(0.11752, rel=0.15)
+    assert dp == pytest.approx(0.11752, rel=0.072)
