@@ -16,14 +16,24 @@ import numpy as np
 from solver import drag_models
 from solver.advection import SCHEMES, advect
 from solver.boundary import DomainBoundary
+from solver.cut_forces import cut_surface_force
+from solver.cut_geometry import CutGeometry
+from solver.cut_projection import (
+    cut_flux,
+    fill_fresh_pressure,
+    pressure_system,
+    project_cut,
+    subtract_cut_gradient,
+)
+from solver.cut_viscosity import diffuse_cut, mark_probe_samples
 from solver.faces import FLUID, STATIC_SOLID, classify_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.pcg import SolveReport
 from solver.probes import Probe
-from solver.projection import divergence_sum, project
-from solver.solver_settings import SolverSettings
+from solver.projection import divergence_sum, project, subtract_gradient
+from solver.solver_settings import BOUNDARY_METHODS, PRESSURE_SCHEMES, SolverSettings
 from solver.stress import stress_integral
 from solver.viscosity import diffuse
 
@@ -109,6 +119,13 @@ class Simulation:
             raise ValueError(f"advection must be one of {sorted(SCHEMES)}")
         if self.settings.force_model not in drag_models.MODELS:
             raise ValueError(f"force_model must be one of {drag_models.MODELS}")
+        if self.settings.boundary_method not in BOUNDARY_METHODS:
+            raise ValueError(f"boundary_method must be one of {BOUNDARY_METHODS}")
+        if self.settings.pressure_scheme not in PRESSURE_SCHEMES:
+            raise ValueError(f"pressure_scheme must be one of {PRESSURE_SCHEMES}")
+        self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
+        self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
+        self._was_active = np.zeros(grid.cells, dtype=np.bool_)
         self.static_solid = (
             np.zeros(grid.cells, dtype=bool) if static_solid is None else static_solid.astype(bool)
         )
@@ -151,23 +168,40 @@ class Simulation:
         self._apply_boundaries()
         t2 = time.perf_counter()
         ms["boundaries"] = 1e3 * (t2 - t1)
+        rho = self.fluid.density_kg_m3
+        system = None
+        if self.cut is not None:
+            system = pressure_system(self._static_label, g.dim, self._kinds, self.cut.open_frac)
+        if cfg.incremental_pressure:
+            active = system.active if system is not None else st.label == FLUID
+            self._old_pressure_gradient(active, dt_s)
+        t2b = time.perf_counter()
+        ms["boundaries"] += 1e3 * (t2b - t2)
         visc = self._diffuse(dt_s)
         t3 = time.perf_counter()
-        ms["viscosity"] = 1e3 * (t3 - t2)
-        rho = self.fluid.density_kg_m3
-        phi = st.pressure * (dt_s / rho)
-        report = project(
-            st.comps,
-            st.face_types,
-            st.label,
-            g.dim,
-            g.cell_size_m,
-            self._kinds,
-            phi,
-            cfg.pressure_tolerance,
-            cfg.max_iterations,
-        )
-        st.pressure = phi * (rho / dt_s)
+        ms["viscosity"] = 1e3 * (t3 - t2b)
+        phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
+        if system is not None and self.cut is not None:
+            report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
+                                 self.cut.owner_face, np.stack(self.rigid_motion()[:3]),
+                                 g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
+                                 cfg.max_iterations)  # fmt: skip
+        else:
+            report = project(
+                st.comps,
+                st.face_types,
+                st.label,
+                g.dim,
+                g.cell_size_m,
+                self._kinds,
+                phi,
+                cfg.pressure_tolerance,
+                cfg.max_iterations,
+            )
+        if cfg.incremental_pressure:
+            st.pressure = st.pressure + phi * (rho / dt_s)
+        else:
+            st.pressure = phi * (rho / dt_s)
         t4 = time.perf_counter()
         ms["projection"] = 1e3 * (t4 - t3)
         self._last_dt = dt_s
@@ -177,6 +211,22 @@ class Simulation:
         self.time_s += dt_s
         return StepStats(self.time_s, 1e3 * (t5 - t0), ms, report, visc)
 
+    def _old_pressure_gradient(self, active: np.ndarray, dt_s: float) -> None:
+        """Incremental pressure correction: apply the last pressure's gradient before the
+        viscosity solve (the projection then solves only for the increment). Cells that have
+        just become active take their first pressure from their neighbours."""
+        g, st = self.grid, self.state
+        fill_fresh_pressure(st.pressure, self._was_active, active, g.dim)
+        self._was_active = active.copy()
+        phi_old = st.pressure * (dt_s / self.fluid.density_kg_m3)
+        h = g.cell_size_m
+        for a in range(g.dim):
+            if self.cut is not None:
+                subtract_cut_gradient(st.comps[a], self._static_label, self._kinds,
+                                      self.cut.open_frac[a], a, active, phi_old, h)  # fmt: skip
+            else:
+                subtract_gradient(st.comps[a], st.face_types[a], a, phi_old, h)
+
     def _diffuse(self, dt_s: float) -> tuple[SolveReport, ...]:
         if not np.any(self.viscosity_pa_s > 0.0) and self.drag_per_s is None:
             return ()  # inviscid: no viscosity solve at all
@@ -184,6 +234,30 @@ class Simulation:
         centre, vel, omega, _ = self.rigid_motion()
         rigid = np.stack([centre, vel, omega])
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
+        if self.cut is not None:
+            cut = self.cut
+            return tuple(
+                diffuse_cut(
+                    st.comps[a],
+                    st.face_types[a],
+                    a,
+                    g.dim,
+                    self.viscosity_pa_s,
+                    dt_s,
+                    rho,
+                    self._kinds,
+                    self._side_vel,
+                    self._static_label,
+                    rigid,
+                    h,
+                    cut.phi_face[a],
+                    cut.owner_sample[a],
+                    cfg.viscosity_tolerance,
+                    cfg.max_iterations,
+                    self.drag_per_s,
+                )
+                for a in range(g.dim)
+            )
         return tuple(
             diffuse(
                 st.comps[a],
@@ -243,6 +317,7 @@ class Simulation:
         st = self.state
         st.comps = [_shifted(q, off) for q in st.comps]
         st.pressure = _shifted(st.pressure, off)
+        self._was_active = _shifted(self._was_active, off)
         self._rasterize()
         self._apply_boundaries()
 
@@ -251,10 +326,13 @@ class Simulation:
         label = self.state.label
         label[:] = FLUID
         label[self.static_solid] = STATIC_SOLID
+        self._static_label[:] = label
         for n, probe in enumerate(self.probes):
             window, mask = probe.voxelize(self.grid)
             sub = label[window]
             sub[mask & (sub == FLUID)] = n
+        if self.cut is not None:
+            self.cut.update(self.grid, self.probes)
 
     def rigid_motion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per-probe centre, velocity, angular velocity and torque reference, each (n, 3),
@@ -273,11 +351,12 @@ class Simulation:
     def _apply_boundaries(self) -> None:
         g, st = self.grid, self.state
         centre, vel, omega, _ = self.rigid_motion()
+        rigid = np.stack([centre, vel, omega])
         for a in range(g.dim):
             open_lo = bool(self._kinds[a, 0] == 3)
             open_hi = bool(self._kinds[a, 1] == 3)
             classify_faces(
-                st.label,
+                st.label if self.cut is None else self._static_label,
                 a,
                 open_lo,
                 open_hi,
@@ -288,6 +367,14 @@ class Simulation:
                 st.face_types[a],
                 st.comps[a],
             )
+            if self.cut is not None:
+                cut = self.cut
+                for lo, hi in cut.windows:
+                    face_hi = hi + np.eye(3, dtype=np.int64)[a]
+                    mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
+                                       cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
+                                       rigid,
+                                       g.cell_size_m)  # fmt: skip
         self.boundary.apply_normal(st.comps)
 
     # -- forces ---------------------------------------------------------------------------------
@@ -311,8 +398,12 @@ class Simulation:
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
         comps = st.comps
-        stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure, self.viscosity_pa_s,
-                        g.cell_size_m, d, (centre, vel, omega), ref, fp, fv, tq)  # fmt: skip
+        if self.cut is not None:
+            self._cut_forces(ref, fp, fv, tq)
+        else:
+            stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure,
+                            self.viscosity_pa_s, g.cell_size_m, d, (centre, vel, omega), ref, fp,
+                            fv, tq)  # fmt: skip
         for i, probe in enumerate(self.probes):
             force, torque = fp[i] + fv[i], tq[i]
             if self.settings.force_model == "control_volume":
@@ -325,6 +416,24 @@ class Simulation:
                 pressure_force=fp[i, :d].copy(),
                 viscous_force=fv[i, :d].copy(),
             )
+
+    def _cut_forces(self, ref: np.ndarray, fp: np.ndarray, fv: np.ndarray, tq: np.ndarray) -> None:
+        """The cut-surface integral over the union window of all probes."""
+        cut, g, st = self.cut, self.grid, self.state
+        fp[:], fv[:], tq[:] = 0.0, 0.0, 0.0
+        if cut is None or not cut.windows:
+            return
+        lo = np.min([w[0] for w in cut.windows], axis=0)
+        hi = np.max([w[1] for w in cut.windows], axis=0)
+        centre, vel, omega, _ = self.rigid_motion()
+        active = self._was_active if self.settings.incremental_pressure else None
+        if active is None or active.shape != g.cells:
+            active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
+        u, v, w = st.comps
+        wx, wy, wz = cut.open_frac
+        cut_surface_force(wx, wy, wz, cut.phi_node, cut.owner_node, active, lo, hi, u, v, w,
+                          st.pressure, self.viscosity_pa_s, g.cell_size_m, g.dim,
+                          np.stack([centre, vel, omega]), ref, fp, fv, tq)  # fmt: skip
 
     def _momentum_balance(
         self, index: int, ref: np.ndarray
@@ -376,10 +485,20 @@ class Simulation:
     # -- diagnostics --------------------------------------------------------------------------
     def divergence(self) -> np.ndarray:
         """Velocity divergence per cell (1/s), 0 in solid cells."""
-        st = self.state
-        out = np.empty(self.grid.cells)
-        divergence_sum(st.comps[0], st.comps[1], st.comps[2], st.label, self.grid.dim, out)
-        return out / self.grid.cell_size_m
+        st, g = self.state, self.grid
+        out = np.empty(g.cells)
+        if self.cut is not None:
+            cut = self.cut
+            active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
+            centre, vel, omega, _ = self.rigid_motion()
+            u, v, w = st.comps
+            wx, wy, wz = cut.open_frac
+            ox, oy, oz = cut.owner_face
+            cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, g.dim, g.cell_size_m,
+                     np.stack([centre, vel, omega]), out)  # fmt: skip
+            return out / g.cell_size_m
+        divergence_sum(st.comps[0], st.comps[1], st.comps[2], st.label, g.dim, out)
+        return out / g.cell_size_m
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the fluid, J (2D: J per metre of depth), from face samples."""

@@ -12,7 +12,14 @@ class SolverSettings:
     (``stress`` integral; ``control_volume``, a momentum balance over a box around the probe that
     is far less sensitive to the staircase boundary; or the paper's ``drag`` / ``viscous_drag``
     approximations). ``probe_forces = False`` skips all force work (nothing reads the forces,
-    e.g. a tablet without force feedback): ``Simulation.forces`` stays empty."""
+    e.g. a tablet without force feedback): ``Simulation.forces`` stays empty.
+
+    ``boundary_method``: ``cutcell`` (face fractions from the probes' signed distances, the
+    variational projection, no-slip at the true surface, force from the cut surface) or
+    ``staircase`` (the paper's voxelized probe, eqs. 14-18). ``pressure_scheme``: ``incremental``
+    (pressure correction: steady states independent of dt), ``chorin`` (the paper's
+    non-incremental projection) or ``auto`` (incremental with cut cells, chorin with the
+    staircase)."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -22,3 +29,16 @@ class SolverSettings:
     drag_coefficient: float = 1.0
     control_volume_margin: int = 3
     probe_forces: bool = True
+    boundary_method: str = "staircase"
+    pressure_scheme: str = "auto"
+
+    @property
+    def incremental_pressure(self) -> bool:
+        """Whether the step uses the incremental pressure correction."""
+        if self.pressure_scheme == "auto":
+            return self.boundary_method == "cutcell"
+        return self.pressure_scheme == "incremental"
+
+
+BOUNDARY_METHODS = ("cutcell", "staircase")
+PRESSURE_SCHEMES = ("auto", "incremental", "chorin")

@@ -1,0 +1,217 @@
+"""Variational (cut-cell) pressure projection (Batty, Bertails & Bridson 2007; Ng, Min & Gibou 2009).
+
+With ``phi = p dt / rho`` and ``W_f`` the open fraction of face ``f`` (0 on faces closed by a
+static solid or a closed domain side), the system per active cell is
+
+    sum_f W_f (phi_c - phi_nb) = -h * sum_f n_f . (w_f u_f + (1 - w_f) u_solid,f)
+
+summed over the cell's faces (an outflow side is a zero-pressure ghost): the same 7-point
+stencil as the staircase Poisson matrix, symmetric and positive (semi-)definite, with the face
+weights in place of 0/1. The probe's rigid velocity enters through each face's solid part
+``1 - w_f``. Faces with ``W_f > 0`` are then corrected by ``-(phi_hi - phi_lo) / h``. A cell is
+active when any of its faces is open; a cell that a probe uncovers takes its first pressure from
+its neighbours (:func:`fill_fresh_pressure`), so the incremental scheme sees no jump there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from solver.boundary import OUTFLOW
+from solver.faces import FLUID, rigid_velocity
+from solver.pcg import SolveReport, StencilSystem, solve
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _neighbour(i, j, k, b, s):
+    return i + s * (b == 0), j + s * (b == 1), k + s * (b == 2)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _face_of(i, j, k, b, s):
+    """Index of the face of cell (i, j, k) across axis ``b`` on side ``s`` (-1 low, +1 high)."""
+    if s > 0:
+        return i + (b == 0), j + (b == 1), k + (b == 2)
+    return i, j, k
+
+
+@njit(cache=True, nogil=True)
+def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
+    """``W`` of the face of cell (i, j, k) across (b, s), and whether it leads to an outflow
+    ghost (zero pressure) rather than a neighbouring cell."""
+    ii, jj, kk = _neighbour(i, j, k, b, s)
+    idx = ii if b == 0 else (jj if b == 1 else kk)
+    fi, fj, fk = _face_of(i, j, k, b, s)
+    if idx < 0 or idx >= shape[b]:
+        if kinds[b, 0 if s < 0 else 1] == OUTFLOW:
+            return wf[fi, fj, fk], True
+        return 0.0, False
+    if static[ii, jj, kk] != FLUID:
+        return 0.0, False
+    return wf[fi, fj, fk], False
+
+
+@njit(cache=True, nogil=True)
+def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active):
+    """Assemble the face-weighted Poisson matrix (the one place it is built; a preconditioner
+    may be built on ``diag``/``off*``/``active``).
+
+    Args:
+        static: cell labels without the probes (``FLUID`` or ``STATIC_SOLID``).
+        kinds: domain side kinds (3, 2).
+        wx, wy, wz: open face fractions of the probes.
+        diag, offx, offy, offz, active: outputs, cells' shape.
+    """
+    nx, ny, nz = static.shape
+    shape = (nx, ny, nz)
+    ws = (wx, wy, wz)
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                offx[i, j, k] = 0.0
+                offy[i, j, k] = 0.0
+                offz[i, j, k] = 0.0
+                d = 0.0
+                if static[i, j, k] == FLUID:
+                    for b in range(dim):
+                        for s in (-1, 1):
+                            wgt, ghost = _matrix_weight(static, kinds, ws[b], i, j, k, b, s, shape)
+                            d += wgt
+                            if s > 0 and wgt > 0.0 and not ghost:
+                                if b == 0:
+                                    offx[i, j, k] = -wgt
+                                elif b == 1:
+                                    offy[i, j, k] = -wgt
+                                else:
+                                    offz[i, j, k] = -wgt
+                active[i, j, k] = d > 0.0
+                diag[i, j, k] = d
+
+
+@njit(cache=True, nogil=True)
+def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
+    """Net outward flux per active cell through the fluid and solid parts of its faces (m/s)."""
+    nx, ny, nz = out.shape
+    comps = (u, v, w)
+    ws = (wx, wy, wz)
+    owners = (ox, oy, oz)
+    centre, vel, omega = rigid[0], rigid[1], rigid[2]
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if not active[i, j, k]:
+                    out[i, j, k] = 0.0
+                    continue
+                total = 0.0
+                for b in range(dim):
+                    for s in (-1, 1):
+                        fi, fj, fk = _face_of(i, j, k, b, s)
+                        f = ws[b][fi, fj, fk]
+                        q = comps[b][fi, fj, fk]
+                        o = owners[b][fi, fj, fk]
+                        if f < 1.0 and o >= 0:
+                            x = (fi + (0.0 if b == 0 else 0.5)) * h
+                            y = (fj + (0.0 if b == 1 else 0.5)) * h
+                            z = (fk + (0.0 if b == 2 else 0.5)) * h
+                            us = rigid_velocity(centre, vel, omega, o, x, y, z, b)
+                            q = f * q + (1.0 - f) * us
+                        total += s * q
+                out[i, j, k] = total
+
+
+@njit(cache=True, nogil=True)
+def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
+    """Correct the faces of component ``axis`` with ``W > 0`` by ``-(phi_hi - phi_lo) / h``."""
+    nx, ny, nz = q.shape
+    n_axis = static.shape[axis]
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if wf[i, j, k] <= 0.0:
+                    continue
+                idx = i if axis == 0 else (j if axis == 1 else k)
+                li, lj, lk = i - (axis == 0), j - (axis == 1), k - (axis == 2)
+                lo_in, hi_in = idx > 0, idx < n_axis
+                lo_ok = active[li, lj, lk] if lo_in else kinds[axis, 0] == OUTFLOW
+                hi_ok = active[i, j, k] if hi_in else kinds[axis, 1] == OUTFLOW
+                if not (lo_ok and hi_ok):
+                    continue
+                hi = phi[i, j, k] if hi_in else 0.0
+                lo = phi[li, lj, lk] if lo_in else 0.0
+                q[i, j, k] -= (hi - lo) / h
+
+
+@njit(cache=True, nogil=True)
+def fill_fresh_pressure(p, was_active, active, dim):
+    """Cells active now but not before take the mean pressure of their previously active
+    neighbours (0 when none); cells no longer active are zeroed."""
+    nx, ny, nz = p.shape
+    shape = (nx, ny, nz)
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if not active[i, j, k]:
+                    continue
+                if was_active[i, j, k]:
+                    continue
+                total = 0.0
+                n = 0
+                for b in range(dim):
+                    for s in (-1, 1):
+                        ii, jj, kk = _neighbour(i, j, k, b, s)
+                        idx = ii if b == 0 else (jj if b == 1 else kk)
+                        if 0 <= idx < shape[b] and was_active[ii, jj, kk]:
+                            total += p[ii, jj, kk]
+                            n += 1
+                p[i, j, k] = total / n if n else 0.0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if not active[i, j, k]:
+                    p[i, j, k] = 0.0
+
+
+def pressure_system(
+    static: np.ndarray, dim: int, kinds: np.ndarray, open_frac: list[np.ndarray]
+) -> StencilSystem:
+    """The face-weighted Poisson matrix on the grid of ``static``."""
+    system = StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
+    wx, wy, wz = open_frac
+    ox, oy, oz = system.off
+    build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
+                              system.active)  # fmt: skip
+    return system
+
+
+def project_cut(
+    comps: list[np.ndarray],
+    system: StencilSystem,
+    static: np.ndarray,
+    open_frac: list[np.ndarray],
+    owner_face: list[np.ndarray],
+    rigid: np.ndarray,
+    h: float,
+    kinds: np.ndarray,
+    phi: np.ndarray,
+    tol: float,
+    max_iter: int,
+) -> SolveReport:
+    """Make the velocity discretely divergence-free on the cut geometry, in place; ``phi`` is the
+    warm start and the result (``p dt / rho`` or its increment)."""
+    dim = system.dim
+    flux = np.empty(static.shape)
+    u, v, w = comps
+    wx, wy, wz = open_frac
+    ox, oy, oz = owner_face
+    cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux)
+    rhs = -h * flux
+    if not np.any(kinds[:dim] == OUTFLOW):
+        n = int(system.active.sum())
+        if n:
+            rhs[system.active] -= rhs[system.active].sum() / n
+    phi[~system.active] = 0.0
+    report = solve(system, rhs, phi, tol, max_iter)
+    for a in range(dim):
+        subtract_cut_gradient(comps[a], static, kinds, open_frac[a], a, system.active, phi, h)
+    return report
