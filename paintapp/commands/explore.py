@@ -1,0 +1,131 @@
+"""``paintapp explore DATA [--probe circle|box|sphere --size M] [--path PATH.csv --forces F.csv]``.
+
+Feel a flow someone else computed. DATA is pressure and velocity on a regular grid -- one
+``.npz`` (one frame or a time series) or one or more VTK files (``.vti``, ``.vtr``, ``.vtk``) --
+in SI units (see the README for the keys). A rigid probe in the flow feels the stress integral of
+the stored fields over its surface (pressure plus viscous traction, trilinear in space, linear
+between frames); the probe does not change the data. The force goes through the same servo loop,
+filter and safety as painting.
+
+With ``--path`` the probe follows a scripted path (CSV: ``t_s, x_m, y_m[, z_m][, angle_rad |
+qw, qx, qy, qz]``) and ``--forces`` writes the force trace, one row per servo tick, as a replay
+does. Without it the window opens: a slice of the field with the probe, driven by the mouse or
+the haptic device (``--device sim|hid:VID:PID|none``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from common.errors import InputError
+
+if TYPE_CHECKING:
+    from paintapp.explore.exploration import Exploration
+
+EXAMPLE = "schaefer_turek_2d2.npz"
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "explore",
+        help="feel a flow computed offline (CFD data: .npz, .vti, .vtr, .vtk) with a probe",
+        description=__doc__.split("\n\n", 1)[1],
+    )
+    parser.add_argument(
+        "data", nargs="+", metavar="DATA",
+        help=f"data file(s), or 'example' for the bundled {EXAMPLE} (Schaefer-Turek 2D-2)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--probe", default=None, choices=("circle", "box", "sphere"),
+        help="probe shape (default: circle in 2D, sphere in 3D)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--size", type=float, nargs="+", metavar="M",
+        help="diameter, or the box's edge(s), metres (default: 8 node spacings)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--depth", type=float, metavar="M", help="2D: depth of the probe the force is felt over"
+    )
+    parser.add_argument("--path", type=Path, metavar="PATH.csv", help="scripted probe path")
+    parser.add_argument("--forces", type=Path, metavar="F.csv", help="write the force trace")
+    parser.add_argument(
+        "--rate", type=float, default=200.0, metavar="HZ", help="force evaluations per second"
+    )
+    parser.add_argument("--force-scale", type=float, default=1.0, help="haptic force scale")
+    parser.add_argument("--density", type=float, help="kg/m^3, if the file does not say")
+    parser.add_argument("--viscosity", type=float, help="dynamic, Pa s, if the file does not say")
+    parser.add_argument(
+        "--pressure-units", choices=("Pa", "m2/s2"), help="if the file does not say (default Pa)"
+    )
+    parser.add_argument("--frame-dt", type=float, metavar="S", help="VTK series without times")
+    parser.add_argument(
+        "--device", default="none", metavar="sim|hid:VID:PID|none", help="haptic device (window)"
+    )
+    parser.set_defaults(func=run)
+
+
+def _data_paths(args: argparse.Namespace) -> list[Path]:
+    if args.data == ["example"]:
+        from paintapp.resources import asset_path
+
+        return [asset_path("flows", EXAMPLE)]
+    return [Path(d) for d in args.data]
+
+
+def build_exploration(args: argparse.Namespace) -> Exploration:
+    """Load the data and place the probe the arguments describe."""
+    from paintapp.explore.exploration import Exploration, ProbeSpec
+    from paintapp.explore.flow_files import FluidOverrides, load_flow
+
+    overrides = FluidOverrides(args.density, args.viscosity, args.frame_dt, args.pressure_units)
+    flow = load_flow(_data_paths(args), overrides)
+    shape = args.probe or ("circle" if flow.dim == 2 else "sphere")
+    size = tuple(args.size) if args.size else (8.0 * float(flow.spacing_m.min()),)
+    return Exploration(flow, ProbeSpec(shape, size, args.depth))
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.forces is not None and args.path is None:
+        raise InputError("--forces needs a scripted --path", key="--forces")
+    if args.path is None:
+        return _window(args)
+    from paintapp.explore.exploration import run_scripted
+    from paintapp.explore.probe_paths import read_probe_path
+    from paintapp.session.outputs import write_forces_csv
+
+    if args.forces is not None and (args.forces.is_dir() or not str(args.forces).strip()):
+        raise InputError(f"expected a file name, got {str(args.forces)!r}", key="--forces")
+    exploration = build_exploration(args)
+    path = read_probe_path(args.path, exploration.flow.dim)
+    result = run_scripted(exploration, path, rate_hz=args.rate, force_scale=args.force_scale)
+    flow = exploration.flow
+    lo, hi = flow.extent_m
+    unit = "N/m per depth" if flow.dim == 2 else "N"
+    print(
+        f"{flow.dim}D data, {'x'.join(map(str, flow.nodes))} nodes, {len(flow.times_s)} frame(s), "
+        f"extent {lo.round(4).tolist()} .. {hi.round(4).tolist()} m; probe {exploration.probe.shape} "
+        f"{exploration.probe.size_m} m ({unit} x {exploration.depth_m:g} m felt)"
+    )
+    felt = result.evaluations[:, 1:4]
+    peak = float(abs(felt).max()) if len(felt) else 0.0
+    print(f"{len(result.evaluations)} force evaluations, peak |F| component {peak:.4g} N, "
+          f"{len(result.trace)} servo ticks")  # fmt: skip
+    if result.outside_evaluations:
+        print(
+            f"warning: part of the probe left the data set in {result.outside_evaluations} "
+            "evaluations (the nearest boundary values were used there)",
+            file=sys.stderr,
+        )
+    if args.forces is not None:
+        write_forces_csv(args.forces, result.trace)
+        print(f"wrote {args.forces}")
+    return 0
+
+
+def _window(args: argparse.Namespace) -> int:
+    from paintapp.app.explore_launch import launch_explorer
+
+    return launch_explorer(args, build_exploration)
