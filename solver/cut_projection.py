@@ -91,7 +91,8 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
 
 @njit(cache=True, nogil=True)
 def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
-    """Net outward flux per active cell through the fluid and solid parts of its faces (m/s)."""
+    """Net outward flux per active cell through the fluid and solid parts of its faces (m/s);
+    faces on the domain's sides carry their prescribed (side) velocity only."""
     nx, ny, nz = out.shape
     comps = (u, v, w)
     ws = (wx, wy, wz)
@@ -110,7 +111,9 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
                         f = ws[b][fi, fj, fk]
                         q = comps[b][fi, fj, fk]
                         o = owners[b][fi, fj, fk]
-                        if f < 1.0 and o >= 0:
+                        fidx = fi if b == 0 else (fj if b == 1 else fk)
+                        side = fidx == 0 or fidx == comps[b].shape[b] - 1
+                        if f < 1.0 and o >= 0 and not side:
                             x = (fi + (0.0 if b == 0 else 0.5)) * h
                             y = (fj + (0.0 if b == 1 else 0.5)) * h
                             z = (fk + (0.0 if b == 2 else 0.5)) * h

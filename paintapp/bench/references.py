@@ -50,7 +50,7 @@ def _scene_data(file: str, solver: dict[str, Any], cells: list[int], dt_s: float
 
 
 def _solver_keys(knobs: dict[str, Any]) -> dict[str, Any]:
-    keys = ("advection", "pressure_tolerance", "max_iterations", "force_model")
+    keys = ("advection", "pressure_tolerance", "max_iterations", "force_model", "boundary_method")
     return {k: knobs[k] for k in keys if k in knobs}
 
 

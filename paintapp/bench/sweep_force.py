@@ -28,7 +28,13 @@ from paintapp.bench.square_sweep import (
 )
 
 _CACHE: dict[tuple, tuple[SweepTrace, dict[str, Any]]] = {}
-SOLVER_KEYS = ("advection", "pressure_tolerance", "max_iterations", "force_model")
+SOLVER_KEYS = (
+    "advection",
+    "pressure_tolerance",
+    "max_iterations",
+    "force_model",
+    "boundary_method",
+)
 
 
 def traced_sweep(

