@@ -36,6 +36,10 @@ class SampledFlow:
         density_kg_m3: fluid density.
         viscosity_pa_s: dynamic viscosity.
         fluid: shape nodes, True where the node is in the fluid (None: everywhere).
+        period_s: for a periodic series (frames evenly over one period, the last one period
+            minus a frame interval after the first): queries wrap around it, and between the last
+            frame and the first one period later values are interpolated. None: times outside the
+            frames' span are clamped.
     """
 
     origin_m: np.ndarray
@@ -46,6 +50,7 @@ class SampledFlow:
     density_kg_m3: float
     viscosity_pa_s: float
     fluid: np.ndarray | None = None
+    period_s: float | None = None
     _frames: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
@@ -68,6 +73,10 @@ class SampledFlow:
             raise ValueError("frame times must increase")
         if self.fluid is not None and self.fluid.shape != nodes:
             raise ValueError("the fluid mask must have the nodes' shape")
+        if self.period_s is not None and not (
+            np.isfinite(self.period_s) and self.period_s > self.times_s[-1] - self.times_s[0]
+        ):
+            raise ValueError("the period must be finite and longer than the frames' span")
 
     @property
     def dim(self) -> int:
@@ -111,7 +120,7 @@ class SampledFlow:
         lo, hi = self.extent_m
         outside = int(np.count_nonzero(np.any((points < lo) | (points > hi), axis=1)))
         index, corner_weights = _multilinear(points, self.origin_m, self.spacing_m, self.nodes)
-        i0, i1, a = frame_pair(self.times_s, t_s)
+        i0, i1, a = frame_pair(self.times_s, t_s, self.period_s)
         p0, g0 = self.frame(i0)
         p, g = _gather(p0, g0, index, corner_weights)
         if a > 0.0:
@@ -189,8 +198,16 @@ def extend_into(
     return out
 
 
-def frame_pair(times: np.ndarray, t_s: float) -> tuple[int, int, float]:
-    """The frames around ``t_s`` and the weight of the later one (clamped to the span)."""
+def frame_pair(
+    times: np.ndarray, t_s: float, period_s: float | None = None
+) -> tuple[int, int, float]:
+    """The frames around ``t_s`` and the weight of the later one: clamped to the frames' span,
+    or wrapped around ``period_s`` (between the last frame and the first one period on)."""
+    if period_s is not None and len(times) > 1:
+        first, last = float(times[0]), float(times[-1])
+        t_s = first + (t_s - first) % period_s
+        if t_s > last:
+            return len(times) - 1, 0, float((t_s - last) / (first + period_s - last))
     if len(times) == 1 or t_s <= times[0]:
         return 0, 0, 0.0
     if t_s >= times[-1]:

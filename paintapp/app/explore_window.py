@@ -95,7 +95,8 @@ class ExploreWindow(QWidget):
         now = time.perf_counter()
         if self.playing and len(self.flow.times_s) > 1:
             t0, t1 = float(self.flow.times_s[0]), float(self.flow.times_s[-1])
-            self.t_s = t0 + ((self.t_s - t0) + (now - self._clock)) % max(t1 - t0, 1e-9)
+            span = self.flow.period_s or max(t1 - t0, 1e-9)
+            self.t_s = t0 + ((self.t_s - t0) + (now - self._clock)) % span
         self._clock = now
         if self.device_position is not None:
             pos = self.device_position()
@@ -147,7 +148,7 @@ class ExploreWindow(QWidget):
         """(ny, nx, 3) uint8 colour map of the slice (rows top to bottom)."""
         from matplotlib import colormaps
 
-        i0, i1, a = frame_pair(self.flow.times_s, self.t_s)
+        i0, i1, a = frame_pair(self.flow.times_s, self.t_s, self.flow.period_s)
         k = None
         if self.flow.dim == 3:
             k = round(float(self.probe_m[2] - self.lo[2]) / float(self.flow.spacing_m[2]))
@@ -189,7 +190,7 @@ class ExploreWindow(QWidget):
 
     def _draw_arrows(self, painter: QPainter) -> None:
         step = max(1, max(self.flow.nodes[:2]) // 24)
-        i0, _, _ = frame_pair(self.flow.times_s, self.t_s)
+        i0, _, _ = frame_pair(self.flow.times_s, self.t_s, self.flow.period_s)
         u = self.flow.velocity_m_s[i0]
         if self.flow.dim == 3:
             k = round(float(self.probe_m[2] - self.lo[2]) / float(self.flow.spacing_m[2]))

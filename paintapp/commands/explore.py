@@ -51,8 +51,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--path", type=Path, metavar="PATH.csv", help="scripted probe path")
     parser.add_argument("--forces", type=Path, metavar="F.csv", help="write the force trace")
+    parser.add_argument("--plot", type=Path, metavar="F.png", help="plot the force trace")
     parser.add_argument(
         "--rate", type=float, default=200.0, metavar="HZ", help="force evaluations per second"
+    )
+    parser.add_argument(
+        "--loop", action="store_true", help="repeat the frames (a periodic flow) past the last one"
     )
     parser.add_argument("--force-scale", type=float, default=1.0, help="haptic force scale")
     parser.add_argument("--density", type=float, help="kg/m^3, if the file does not say")
@@ -88,19 +92,22 @@ def build_exploration(args: argparse.Namespace) -> Exploration:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.forces is not None and args.path is None:
-        raise InputError("--forces needs a scripted --path", key="--forces")
+    for flag, value in (("--forces", args.forces), ("--plot", args.plot)):
+        if value is not None and args.path is None:
+            raise InputError(f"{flag} needs a scripted --path", key=flag)
+        if value is not None and (value.is_dir() or not str(value).strip()):
+            raise InputError(f"expected a file name, got {str(value)!r}", key=flag)
     if args.path is None:
         return _window(args)
     from paintapp.explore.exploration import run_scripted
     from paintapp.explore.probe_paths import read_probe_path
-    from paintapp.session.outputs import write_forces_csv
+    from paintapp.session.outputs import plot_forces, write_forces_csv
 
-    if args.forces is not None and (args.forces.is_dir() or not str(args.forces).strip()):
-        raise InputError(f"expected a file name, got {str(args.forces)!r}", key="--forces")
     exploration = build_exploration(args)
     path = read_probe_path(args.path, exploration.flow.dim)
-    result = run_scripted(exploration, path, rate_hz=args.rate, force_scale=args.force_scale)
+    result = run_scripted(
+        exploration, path, rate_hz=args.rate, force_scale=args.force_scale, loop=args.loop
+    )
     flow = exploration.flow
     lo, hi = flow.extent_m
     unit = "N/m per depth" if flow.dim == 2 else "N"
@@ -122,6 +129,9 @@ def run(args: argparse.Namespace) -> int:
     if args.forces is not None:
         write_forces_csv(args.forces, result.trace)
         print(f"wrote {args.forces}")
+    if args.plot is not None:
+        plot_forces(args.plot, result.trace, title=f"force on the probe ({path.source})")
+        print(f"wrote {args.plot}")
     return 0
 
 

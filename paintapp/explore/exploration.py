@@ -14,7 +14,7 @@ check is cheap) is dropped and counted, and the servo loop's watchdog fades the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -165,10 +165,15 @@ def run_scripted(
     *,
     rate_hz: float = DEFAULT_RATE_HZ,
     force_scale: float = 1.0,
+    loop: bool = False,
     progress: object = None,
 ) -> ScriptedRun:
     """Drive the probe along ``path`` (a :class:`~paintapp.explore.probe_paths.ProbePath`) and
-    play its force through the servo loop on a virtual clock, as a replay does."""
+    play its force through the servo loop on a virtual clock, as a replay does.
+
+    Path time 0 is the data set's first frame; past its last frame the flow holds still, or,
+    with ``loop``, the frames repeat: over the period the data set states (a periodic flow such
+    as vortex shedding), else over their span."""
     from brushes.stylus import StylusSample
 
     if not (math.isfinite(rate_hz) and 1.0 <= rate_hz <= 1e4):
@@ -197,11 +202,27 @@ def run_scripted(
     servo.open()
     rows = []
     outside = 0
+    flow = exploration.flow
+    first, span = float(flow.times_s[0]), float(flow.times_s[-1] - flow.times_s[0])
+    if flow.period_s is not None and not loop:
+        flow = replace(flow, period_s=None, _frames={})  # hold still after the last frame
+        exploration = Exploration(flow, exploration.probe)
+
+    def data_time(t_s: float) -> float:
+        offset = t_s - t0
+        if loop and flow.period_s is None and span > 0:
+            offset %= span
+        return first + offset
+
     for k, sample in enumerate(samples):
         pos, orientation = path.pose_at(sample.t_s)  # type: ignore[attr-defined]
-        result = exploration.publish(channel, sample.t_s, pos, orientation)
-        outside += result.outside_fraction > 0
+        result = exploration.force_at(data_time(sample.t_s), pos, orientation)
         force, torque = exploration.felt(result)
+        if np.all(np.isfinite(force)) and np.all(np.isfinite(torque)):
+            channel.publish_force(sample.t_s, force, torque)
+        else:
+            exploration.dropped += 1
+        outside += result.outside_fraction > 0
         rows.append([sample.t_s, *force, *torque])
         next_t = samples[k + 1].t_s if k + 1 < len(samples) else t1 + 0.1
         target = math.ceil((next_t - t0) / config.tick_s - 1e-9)

@@ -31,6 +31,7 @@ class FlowFrames:
     fluid: np.ndarray
     density_kg_m3: float
     viscosity_pa_s: float
+    period_s: float | None = None
 
     @classmethod
     def start(cls, sim: Simulation) -> FlowFrames:
@@ -65,7 +66,7 @@ class FlowFrames:
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The ``.npz`` keys (see :mod:`paintapp.explore.flow_files`)."""
-        return {
+        out = {
             "p": np.stack(self.pressure_pa).astype(np.float32),
             "u": np.stack(self.velocity_m_s).astype(np.float32),
             "origin": self.origin_m,
@@ -76,6 +77,9 @@ class FlowFrames:
             "fluid": self.fluid,
             "pressure_units": np.array("Pa"),
         }
+        if self.period_s is not None:
+            out["period"] = np.array(self.period_s)
+        return out
 
 
 def write_flow_npz(path: str | Path, frames: FlowFrames) -> None:

@@ -15,6 +15,7 @@ m^2/s^2 (``pressure_units = "m2/s2"``), converted here with the density.
 ``times``                 frame times, s, ``(T,)`` increasing (required for T > 1)
 ``fluid``                 optional bool ``(*nodes)``: False inside the data set's own bodies
 ``pressure_units``        optional: ``"Pa"`` (default) or ``"m2/s2"``
+``period``                optional, s: the frames cover one period of a periodic flow
 ========================  =============================================================
 
 VTK files (``.vti`` image data, ``.vtr`` rectilinear grids with uniform spacing, legacy ``.vtk``
@@ -102,6 +103,7 @@ def _from_npz(path: Path, overrides: FluidOverrides) -> SampledFlow:
         "times",
         "fluid",
         "pressure_units",
+        "period",
     }
     unknown = sorted(set(arrays) - known)
     if unknown:
@@ -127,12 +129,13 @@ def _from_npz(path: Path, overrides: FluidOverrides) -> SampledFlow:
         )
     times = _numeric(arrays["times"], source, "times").reshape(-1) if "times" in arrays else None
     fluid = _fluid(arrays.get("fluid"), p.shape[1:], source)
+    period = _scalar(arrays, "period", source)
     frame = Frame(
         source, origin, spacing, p, u, fluid, None,
         _scalar(arrays, "density", source), _scalar(arrays, "viscosity", source),
         str(arrays["pressure_units"]) if "pressure_units" in arrays else None,
     )  # fmt: skip
-    return _build(frame, times, overrides)
+    return _build(frame, times, overrides, period)
 
 
 def _from_frames(frames: list[Frame], overrides: FluidOverrides, source: str) -> SampledFlow:
@@ -163,7 +166,9 @@ def _from_frames(frames: list[Frame], overrides: FluidOverrides, source: str) ->
     return _build(merged, times, overrides)
 
 
-def _build(frame: Frame, times: np.ndarray | None, overrides: FluidOverrides) -> SampledFlow:
+def _build(
+    frame: Frame, times: np.ndarray | None, overrides: FluidOverrides, period: float | None = None
+) -> SampledFlow:
     source = frame.source
     count = frame.pressure.shape[0]
     nodes = frame.pressure.shape[1:]
@@ -202,17 +207,19 @@ def _build(frame: Frame, times: np.ndarray | None, overrides: FluidOverrides) ->
                 source,
                 key,
             )
+    if period is not None and not (
+        count > 1 and np.isfinite(period) and period > times[-1] - times[0]
+    ):
+        raise InputError(
+            "expected a period longer than the frames' span (a series of 2 or more frames)",
+            source,
+            "period",
+        )
     pressure = frame.pressure * (density if units == "m2/s2" else 1.0)
     return SampledFlow(
-        frame.origin,
-        frame.spacing,
-        times,
-        pressure,
-        frame.velocity,
-        density,
-        viscosity,
-        frame.fluid,
-    )
+        frame.origin, frame.spacing, times, pressure, frame.velocity, density, viscosity,
+        frame.fluid, period,
+    )  # fmt: skip
 
 
 def _given(override: float | None, stated: float | None, source: str, key: str, unit: str) -> float:

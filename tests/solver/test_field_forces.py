@@ -96,3 +96,16 @@ def test_rules_sum_to_the_exact_perimeter_or_area():
     assert surface_rule(Box((0.2, 0.1, 0.4)), 3, 0.02).weights.sum() == pytest.approx(0.28)
     with pytest.raises(ValueError):
         surface_rule(Ball(0.3), 2, 0.0)
+
+
+def test_a_periodic_series_wraps_from_its_last_frame_back_to_the_first():
+    from solver.sampled_flow import frame_pair
+
+    times = np.array([0.0, 0.1, 0.2])
+    assert frame_pair(times, 0.25, period_s=0.3) == (2, 0, pytest.approx(0.5))
+    assert frame_pair(times, 0.35, period_s=0.3) == (0, 1, pytest.approx(0.5))
+    assert frame_pair(times, 0.25) == (2, 2, 0.0)  # not periodic: held at the last frame
+    flow = linear_flow(2, np.array([1.0, 0.0]), 0.0)
+    with pytest.raises(ValueError, match="period"):
+        SampledFlow(flow.origin_m, flow.spacing_m, [0.0, 1.0], np.concatenate([flow.pressure_pa] * 2),
+                    np.concatenate([flow.velocity_m_s] * 2), 1.0, 0.1, period_s=0.5)  # fmt: skip

@@ -189,3 +189,9 @@ def test_the_bundled_example_loads_and_is_unsteady():
     lifts = [probe.force_at(t, np.array([0.6, 0.2]), 0.0).force[1] for t in flow.times_s]
     assert np.ptp(lifts) > 0.0 and np.all(np.isfinite(lifts))
     json.dumps([float(v) for v in lifts])
+    # the frames cover one shedding period: looping it is seamless (no jump at the wrap)
+    assert flow.period_s is not None
+    t0, step = float(flow.times_s[0]), 0.002
+    ts = t0 + flow.period_s + np.arange(-0.05, 0.05, step)
+    fy = np.array([probe.force_at(t, np.array([0.6, 0.2]), 0.0).force[1] for t in ts])
+    assert np.abs(np.diff(fy)).max() < 0.05 * np.ptp(lifts)
