@@ -54,6 +54,8 @@ def _schaefer_turek() -> Family:
     full = [{"force_model": m} for m in ("stress", "control_volume", "drag", "viscous_drag")]
     full += [{"advection": "linear"}]
     full += [{"dh": 20, "force_model": m} for m in ("stress", "control_volume")]
+    full += [{"boundary_method": "cutcell", "force_model": "stress"},
+             {"dh": 20, "boundary_method": "cutcell", "force_model": "stress"}]  # fmt: skip
     return Family(
         "schaefer_turek", references.schaefer_turek, ("cd_rel_error",),
         {"dh": 10, **_SOLVER, "advection": "maccormack", "force_model": "control_volume"},
@@ -74,6 +76,7 @@ def _sweep() -> Family:
     full += [{"advection": "maccormack"}]
     full += [{"pressure_tolerance": t} for t in (1e-3, 1e-7)]
     full += [{"max_iterations": 10}]
+    full += [{"cells": c, "boundary_method": "cutcell"} for c in (32, 64)]
     full += [{"cells": c, "dim": 3} for c in (16, 32)]
     return Family(
         "sweep", sweep_force.sweep_force, ("force_noise", "force_error"),

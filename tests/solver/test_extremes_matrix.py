@@ -22,6 +22,7 @@ import pytest
 
 import solver.simulation as simulation_module
 from paintapp.cli import main
+from solver.cut_projection import cut_flux
 from solver.faces import FLUID
 from solver.pcg import SolveReport
 from solver.plan import max_boundary_speed
@@ -67,7 +68,23 @@ def projections(monkeypatch) -> ProjectionLog:
         return report
 
     monkeypatch.setattr(simulation_module, "project", recording)
+    real_cut = simulation_module.project_cut
+
+    def recording_cut(comps, system, static, open_frac, owner_face, rigid, h, *args):
+        log.before.append(_cut_flux(comps, system, open_frac, owner_face, rigid, h))
+        report = real_cut(comps, system, static, open_frac, owner_face, rigid, h, *args)
+        log.after.append(_cut_flux(comps, system, open_frac, owner_face, rigid, h))
+        return report
+
+    monkeypatch.setattr(simulation_module, "project_cut", recording_cut)
     return log
+
+
+def _cut_flux(comps, system, open_frac, owner_face, rigid, h) -> np.ndarray:
+    """Net flux per active cell through the fluid and solid parts of its faces (cut cells)."""
+    out = np.empty(system.active.shape)
+    cut_flux(*comps, *open_frac, *owner_face, system.active, system.dim, h, rigid, out)
+    return out[system.active]
 
 
 def _flux(comps, label, dim) -> np.ndarray:
