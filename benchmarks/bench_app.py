@@ -1,17 +1,23 @@
 """Frame rate, simulation rate and servo jitter of the painting window while it paints.
 
-    python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--screenshot OUT.png]
+    python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--servo process|thread]
+                                   [--headless-seconds S] [--json OUT.json] [--screenshot OUT.png]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
 dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events
 sent to the canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs
-the 1 kHz servo loop). Prints the display frame rate, the paint steps per second, and with a
-device the servo loop's achieved rate, tick-interval jitter and start lateness.
+the 1 kHz servo loop, in its own process unless ``--servo thread``). Prints the display frame
+rate, the paint steps per second, and with a device the servo loop's achieved rate, tick-interval
+jitter and start lateness, and what the OS granted the servo process. Then (unless
+``--headless-seconds 0``) it paints the same circle headless -- the same session, brush and
+scene, no window, no servo loop -- and prints that paint-step rate and the window's share of it.
+``--json`` writes every figure to a file as well.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import shutil
@@ -32,6 +38,7 @@ def private_display() -> subprocess.Popen | None:
     proc = subprocess.Popen(
         ["Xvfb", "-displayfd", str(write_fd), "-screen", "0", "1600x1000x24", "-nolisten", "tcp"],
         pass_fds=(write_fd,),
+        stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
     os.close(write_fd)
@@ -98,10 +105,50 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     }
 
 
+def headless_rate(seconds: float) -> float:
+    """Paint steps per second of the window's session painting the same circle, no window."""
+    import numpy as np
+
+    from brushes import StylusSample
+    from paintapp.app.options import PaintOptions, blank_canvas
+    from paintapp.app.settings import PaintSettings, make_preset, make_scene, rebuild_session
+    from paintapp.app.worker import MAX_STEP_S
+    from paintapp.haptics.channel import ForceChannel
+    from paintapp.strokes.records import LoadPigment
+
+    settings = PaintSettings()
+    canvas = blank_canvas(options=PaintOptions())
+    # tablet samples at the window's pressure: the same brush, scene and circle, no device
+    session = rebuild_session(
+        None, canvas, make_preset(settings), make_scene(settings, None), "tablet", ForceChannel()
+    )
+    volume = settings.load_fraction * session.preset.capacity_m3
+    session.handle(LoadPigment(0.0, "ultramarine_blue", volume))
+    w, h = canvas.size_m
+
+    def at(t: float) -> StylusSample:
+        a = 2.0 * math.pi * t / 3.0
+        x, y = 0.5 * w + 0.25 * h * math.cos(a), 0.5 * h + 0.25 * h * math.sin(a)
+        return StylusSample(t, np.array([x, y, 0.0]), 0.8)
+
+    session.sample(at(0.0))  # warm-up (kernels are compiled by the window run already)
+    steps0, sim_t = session.stats.paint_steps, 0.0
+    start = last = time.perf_counter()
+    while (now := time.perf_counter()) - start < seconds:
+        sim_t += min(now - last, MAX_STEP_S)
+        last = now
+        session.sample(at(sim_t))
+    return (session.stats.paint_steps - steps0) / (time.perf_counter() - start)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=6.0)
     parser.add_argument("--device", choices=("none", "sim"), default="none")
+    parser.add_argument("--servo", choices=("process", "thread"), default="process")
+    parser.add_argument("--headless-seconds", type=float, default=None,
+                        help="length of the headless run (default: --seconds; 0 skips it)")  # fmt: skip
+    parser.add_argument("--json", type=Path, help="write the figures to this JSON file")
     parser.add_argument("--screenshot", type=Path, help="save the window here at the end")
     args = parser.parse_args()
     xvfb = private_display()
@@ -121,8 +168,10 @@ def run(args: argparse.Namespace) -> None:
 
     tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))
     options = PaintOptions(
-        device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no"
-    )
+        device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
+        servo=args.servo,
+    )  # fmt: skip
+    figures: dict[str, object] = {"device": args.device, "load_before": os.getloadavg()[0]}
     app, win = create_window(options, interactive=False)
     for _ in range(100):
         app.processEvents()
@@ -134,18 +183,42 @@ def run(args: argparse.Namespace) -> None:
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
     print(f"frame rate      {rates['frame_hz']:7.1f} Hz")
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
+    figures |= {"seconds": rates["seconds"], "frame rate": rates["frame_hz"]}
+    figures["simulation rate"] = rates["sim_hz"]
     if win.link is not None:
-        rate, jitter, _ = win.link.clock.live()
+        link = win.link
+        rate, jitter, _ = link.live()
         print(f"servo (live)    {rate:7.1f} Hz, tick-interval jitter p99 {jitter:.3f} ms")
-        timing = win.link.loop.stop().timing
+        print(f"servo where     {link.mode}: {link.granted}")
+        figures |= {"servo mode": link.mode, "servo granted": link.granted}
+        figures["servo fault"] = link.fault
+        report = link.stop()
+        timing = report.timing if report is not None else None
         if timing is not None:
             for label, value in timing.rows():
                 print(f"servo {label:22s} {value}")
+                figures[f"servo {label}"] = float(value)
+        if link.process is not None:
+            audit = link.process.audit()
+            print(f"servo device writes {audit.get('writes', 0):.0f}, non-finite "
+                  f"{audit.get('nonfinite_writes', 0):.0f}, over the limit "
+                  f"{audit.get('over_limit_writes', 0):.0f}")  # fmt: skip
+            figures["servo audit"] = audit
     if args.screenshot is not None:
         win.grab().save(str(args.screenshot))
         print(f"wrote {args.screenshot}")
     win.close()
     app.processEvents()
+    figures["load_after"] = os.getloadavg()[0]
+    headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
+    if headless_s > 0:
+        headless = headless_rate(headless_s)
+        share = rates["sim_hz"] / headless if headless > 0 else 0.0
+        print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %)")
+        figures |= {"headless simulation rate": headless, "window share of headless": share}
+    if args.json is not None:
+        args.json.write_text(json.dumps(figures, indent=2, default=str) + "\n")
+        print(f"wrote {args.json}")
 
 
 if __name__ == "__main__":

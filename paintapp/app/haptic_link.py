@@ -1,4 +1,5 @@
-"""The haptic side of the app: which device, the 1 kHz servo thread, and its live timing.
+"""The haptic side of the app: which device, the 1 kHz servo loop (a process or a thread), and
+its live timing.
 
 ``--device`` chooses the input route:
 
@@ -8,10 +9,13 @@
   the paint as deep as the pen's pressure asks. The force the loop writes acts back on the hand.
 - ``hid:VID:PID`` (optionally ``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
 
-With a device the servo loop runs in its own thread on a :class:`MeteredClock` (a
-:class:`~paintapp.haptics.clock.RealTimeClock` that also keeps the last ticks' intervals, so the
-HUD can show the live rate and jitter), publishes the device's pose into its state channel, and
-the simulation worker turns the latest pose into stylus samples (:func:`sample_from_state`).
+With a device the servo loop runs, by default, in a process of its own
+(:class:`~paintapp.haptics.process.ServoProcess`: it owns the device, and shared memory carries
+the force samples, device states, the simulated hand's target and the tick-timing ring), so the
+GUI and the simulation never hold it up. The thread form (``mode="thread"``) runs it on a
+:class:`MeteredClock` (a :class:`~paintapp.haptics.clock.RealTimeClock` that also keeps the last
+ticks' intervals) in this process. Either way the loop publishes the device's pose, and the
+simulation worker turns the latest pose into stylus samples (:func:`sample_from_state`).
 """
 
 from __future__ import annotations
@@ -19,20 +23,22 @@ from __future__ import annotations
 import math
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from brushes import StylusSample
 from common.errors import InputError
-from paintapp.haptics.channel import ForceChannel
+from paintapp.haptics.channel import ForceChannel, StateChannel
 from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.device import DeviceState, HapticDevice
 from paintapp.haptics.devices.hid import HidDevice
 from paintapp.haptics.devices.hid_transport import open_hid, parse_ids
 from paintapp.haptics.devices.simulated import SimulatedDevice
 from paintapp.haptics.orientation import tilt_twist_from_quat
-from paintapp.haptics.servo import ServoConfig, ServoLoop
+from paintapp.haptics.process import ProcessOptions, ServoProcess
+from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
 
 #: Height the simulated hand hovers above the canvas with the pen up, m.
 HOVER_M = 0.005
@@ -77,11 +83,15 @@ class PointerTarget:
     """The simulated hand's target: the latest pointer position (thread-safe latest value).
 
     Canvas-frame metres; the device frame equals the canvas frame (the canvas plane at z = 0).
+    ``sink`` also receives every new position (the process form's shared target).
     """
 
-    def __init__(self, x_m: float = 0.0, y_m: float = 0.0) -> None:
+    def __init__(
+        self, x_m: float = 0.0, y_m: float = 0.0, sink: Callable[[np.ndarray], None] | None = None
+    ) -> None:
         self._lock = threading.Lock()
         self._pos = np.array([x_m, y_m, HOVER_M])
+        self._sink = sink
 
     def set(self, x_m: float, y_m: float, pressure: float, down: bool) -> None:
         """Aim at (x, y); pen down pushes ``pressure * PRESS_M`` below the canvas plane."""
@@ -90,6 +100,8 @@ class PointerTarget:
             return
         with self._lock:
             self._pos = np.array([x_m, y_m, z])
+            if self._sink is not None:  # the servo process's shared target
+                self._sink(self._pos)
 
     def __call__(self, _t_s: float) -> tuple[np.ndarray, np.ndarray]:
         with self._lock:
@@ -140,49 +152,106 @@ def make_device(spec: DeviceSpec, clock: RealTimeClock, target: PointerTarget) -
 
 
 class HapticLink:
-    """A device and its servo loop in a background thread.
+    """A device and its 1 kHz servo loop: in a process of its own (``mode="process"``, the
+    default) or in a background thread of the app (``mode="thread"``).
+
+    Both forms offer the same surface: :attr:`forces` (the channel the painting session
+    publishes into), :attr:`states` (the latest device state), :attr:`target` (the simulated
+    hand's), :meth:`live`, :attr:`fault`, :attr:`granted`, :meth:`set_force_scale`,
+    :meth:`start` and :meth:`stop`.
 
     Args:
         spec: the device.
-        forces: the channel the painting session publishes into.
+        forces: the channel the painting session publishes into (thread form; the process form
+            brings its shared one).
         force_scale: the initial force scale.
-        target: the simulated hand's target (``sim`` only).
+        target: the simulated hand's target (``sim`` only; thread form).
+        mode: "process" or "thread".
     """
 
     def __init__(
         self,
         spec: DeviceSpec,
-        forces: ForceChannel,
+        forces: ForceChannel | None = None,
         force_scale: float = 4.0,
         target: PointerTarget | None = None,
+        mode: str = "process",
     ) -> None:
+        if mode not in ("process", "thread"):
+            raise InputError(f"expected servo mode process or thread, got {mode!r}", key="servo")
         self.spec = spec
-        self.target = target or PointerTarget()
-        self.clock = MeteredClock()
+        self.mode = mode
         config = ServoConfig(record=False)
         config = replace(config, fluid=replace(config.fluid, force_scale=force_scale))
-        self.loop = ServoLoop(make_device(spec, self.clock, self.target), forces, config)
+        self.process: ServoProcess | None = None
+        self.loop: ServoLoop | None = None
+        self.report: ServoReport | None = None
+        if mode == "process":
+            self.process = ServoProcess(ProcessOptions(device=device_text(spec), config=config))
+            self.target = PointerTarget(sink=self.process.target.set_position)
+            self.forces: ForceChannel = self.process.forces
+            self.states: StateChannel = self.process.states
+            self.granted = "not started"
+        else:
+            self.target = target or PointerTarget()
+            self.clock = MeteredClock()
+            device = make_device(spec, self.clock, self.target)
+            self.loop = ServoLoop(device, forces or ForceChannel(), config)
+            self.forces, self.states = self.loop.forces, self.loop.states
+            self.granted = "thread in the app process (no priority change)"
         self.started_at = time.perf_counter()
 
     def start(self) -> None:
         """Open the device and start the loop (DeviceNotFoundError if it cannot be opened)."""
-        self.loop.start(self.clock)
+        if self.process is not None:
+            self.process.start()
+            self.granted = self.process.granted
+        elif self.loop is not None:
+            self.loop.start(self.clock)
 
-    def stop(self) -> None:
-        """Stop the loop and close the device (zero force)."""
-        self.loop.close()
+    def stop(self) -> ServoReport | None:
+        """Stop the loop and close the device (zero force); the final report (kept, so a second
+        call returns the same)."""
+        if self.report is not None:
+            return self.report
+        if self.process is not None:
+            self.report = self.process.stop()
+        elif self.loop is not None:
+            self.report = self.loop.stop()
+            self.loop.close()
+        return self.report
 
     @property
     def fault(self) -> str | None:
-        """The device failure that stopped the loop, or None."""
-        return self.loop.device_fault
+        """Why the servo loop stopped on its own (device failure, servo process died), or None."""
+        if self.process is not None:
+            return self.process.fault
+        return self.loop.device_fault if self.loop is not None else None
+
+    def live(self) -> tuple[float, float, int]:
+        """(rate Hz, tick-interval jitter p99 ms, intervals seen) over the last ticks."""
+        if self.process is not None:
+            return self.process.live()
+        return self.clock.live()
 
     def set_force_scale(self, scale: float) -> None:
-        """Change the force scale while running (one attribute swap each; the loop reads them
-        once per tick)."""
+        """Change the force scale while running (the loop takes it at its next tick, or within
+        a few ticks in the process form)."""
         if not (math.isfinite(scale) and 0.0 <= scale <= 20.0):
             raise InputError(f"expected a force scale in [0, 20], got {scale}", key="force_scale")
-        self.loop.set_force_scale(scale)
+        if self.process is not None:
+            self.process.set_force_scale(scale)
+        elif self.loop is not None:
+            self.loop.set_force_scale(scale)
+
+
+def device_text(spec: DeviceSpec) -> str:
+    """The servo process's description of ``spec`` (it builds the device itself)."""
+    if spec.kind == "sim":
+        return "sim"
+    if spec.kind == "hid":
+        return f"hid:{spec.vendor_id:04x}:{spec.product_id:04x}:{spec.protocol}"
+    raise InputError("no device to open", key="--device")
 
 
 def sample_from_state(state: DeviceState, t_s: float) -> StylusSample | None:

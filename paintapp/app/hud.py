@@ -4,7 +4,8 @@ It is a transparent widget laid over the canvas widget (mouse events pass throug
 
 - the simulation rate (paint steps per second) and the last step's time;
 - the servo loop's rate and jitter (99th percentile of |tick interval - 1 ms|), live from its
-  clock, or "off" without a haptic device;
+  clock (the servo process's shared timing ring), or "off" without a haptic device; and where it
+  runs with what the OS granted it (priority, core, GC);
 - the display frame rate;
 - the force and torque on the brush tip, as numbers and as an arrow in a gauge (the in-plane
   force; the felt force is this times the force scale);
@@ -37,6 +38,7 @@ class HudData:
     frame_hz: float = 0.0
     servo: tuple[float, float] | None = None
     device: str = "tablet/mouse"
+    servo_where: str = ""
     brush: str = ""
     model: str = ""
     force_scale: float = 0.0
@@ -54,6 +56,7 @@ def hud_lines(status: WorkerStatus, data: HudData) -> list[str]:
     lines = [
         f"sim    {status.sim_hz:6.1f} Hz  step {status.step_ms:5.1f} ms",
         f"servo  {servo}",
+        *([f"       {data.servo_where}"] if data.servo_where else []),
         f"frame  {data.frame_hz:6.1f} Hz",
         f"force  {float(np.linalg.norm(f)):.4f} N  ({f[0]:+.3f}, {f[1]:+.3f}, {f[2]:+.3f})",
         f"torque {float(np.linalg.norm(t)):.2e} N m   felt x{data.force_scale:g}",

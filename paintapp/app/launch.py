@@ -81,6 +81,28 @@ def starting_canvas(
     return blank_canvas(options=options), None, "new canvas"
 
 
+def start_link(options: PaintOptions):
+    """The started haptic link: the servo process, or the thread form when asked for or when a
+    process cannot be started (the note says why). DeviceNotFoundError if the device is absent."""
+    from paintapp.app.haptic_link import HapticLink
+    from paintapp.haptics.device import DeviceNotFoundError
+
+    scale = options.settings.force_scale
+    if options.servo == "process":
+        link = HapticLink(options.device, None, scale, mode="process")
+        try:
+            link.start()
+            return link
+        except DeviceNotFoundError:
+            raise
+        except (RuntimeError, OSError) as exc:
+            print(f"servo process unavailable ({exc}); running the servo loop in a thread",
+                  file=sys.stderr)  # fmt: skip
+    link = HapticLink(options.device, None, scale, mode="thread")
+    link.start()
+    return link
+
+
 def create_window(options: PaintOptions, interactive: bool = True):
     """Make the QApplication and the window (shown); returns ``(app, window)``.
 
@@ -90,16 +112,13 @@ def create_window(options: PaintOptions, interactive: bool = True):
     if not display_available():
         raise InputError(NO_DISPLAY)
     app = qt_application()
-    from paintapp.app.haptic_link import HapticLink
     from paintapp.app.window import PaintWindow
-    from paintapp.haptics.channel import ForceChannel
 
     library = load_pigment_library()
     canvas, document, note = starting_canvas(options, library)
     link = None
     if options.device.kind != "none":
-        link = HapticLink(options.device, ForceChannel(), options.settings.force_scale)
-        link.start()
+        link = start_link(options)
     try:
         window = PaintWindow(canvas, library, options, link, document, interactive)
     except BaseException:

@@ -32,6 +32,8 @@ class PaintOptions:
         settings: the initial paint settings.
         pixels, size_m: size of a new canvas.
         frame_ms: the render timer's period, ms.
+        servo: where the 1 kHz servo loop runs with a device: "process" (its own process, real
+            time where the OS grants it) or "thread" (a thread of the app).
     """
 
     canvas_path: Path | None = None
@@ -46,6 +48,7 @@ class PaintOptions:
     pixels: tuple[int, int] = DEFAULT_PIXELS
     size_m: tuple[float, float] = DEFAULT_SIZE_M
     frame_ms: int = 16
+    servo: str = "process"
 
 
 def blank_canvas(like: Canvas | None = None, options: PaintOptions | None = None) -> Canvas:

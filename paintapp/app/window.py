@@ -6,7 +6,8 @@ Threads (none waits on another; they exchange the latest state):
   display rate that repaints the canvas widget and the HUD;
 - the simulation worker (:mod:`paintapp.app.worker`): steps the painting session with the
   latest input as fast as it can;
-- with a haptic device, the 1 kHz servo loop (:mod:`paintapp.app.haptic_link`);
+- with a haptic device, the 1 kHz servo loop (:mod:`paintapp.app.haptic_link`), by default in a
+  process of its own that owns the device (shared memory carries forces, poses and timing);
 - an autosave thread now and then (:mod:`paintapp.app.recovery`).
 """
 
@@ -220,18 +221,27 @@ class PaintWindow(QMainWindow):
         """The HUD's figures besides the worker's."""
         servo = None
         if self.link is not None and self.link.fault is None:
-            rate, jitter, _ = self.link.clock.live()
+            rate, jitter, _ = self.link.live()
             servo = (rate, jitter)
         s = self.settings
         return HudData(
             frame_hz=self.canvas_widget.frames.rate(),
             servo=servo,
             device=self.options.device.label,
+            servo_where=self._servo_where(),
             brush=f"{s.brush} x{s.brush_scale:.2g} load {100 * s.load_fraction:.0f}%",
             model=f"{MODEL_LABELS[s.fluid_model]}, {self.worker.session.scene.viscosity_pa_s:.3g} Pa s",
             force_scale=s.force_scale,
             journal=str(self.journal.path or ""),
         )
+
+    def _servo_where(self) -> str:
+        link = self.link
+        if link is None:
+            return ""
+        if link.mode == "process":
+            return f"process: {link.granted}"
+        return "thread in the app"
 
     # --- input ----------------------------------------------------------------------------------
     def on_pen(self, pen: PenState) -> None:

@@ -7,7 +7,7 @@ Each pass of its loop:
 2. takes the latest input: with a tablet or mouse, the samples the GUI pushed since the last pass
    (only pen-down/pen-up transitions and the newest sample are kept; while the pen is held still
    the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
-   pose the servo loop published;
+   pose the servo loop published (from its own process, through shared memory, by default);
 3. stamps each sample with the session clock, hands it to the
    :class:`~paintapp.session.painting.PaintingSession` (which publishes the force to the servo loop's
    channel) and journals it;
@@ -17,8 +17,9 @@ Each pass of its loop:
 
 The session clock advances with wall time but by at most ``MAX_STEP_S`` per sample, so a slow
 step never makes the next one longer (the simulation slows down instead of falling behind).
-A failing device ends the stroke (it is kept, undoable and journalled), lifts the brush and
-switches the input back to the tablet or mouse; nothing painted is lost.
+A failing device, or a servo process that died, ends the stroke (it is kept, undoable and
+journalled), lifts the brush and switches the input back to the tablet or mouse; nothing painted
+is lost.
 """
 
 from __future__ import annotations
@@ -100,7 +101,7 @@ class SimulationWorker(threading.Thread):
         self.user_scene = user_scene
         self.link = link
         self.clock = clock or AppClock()
-        self.forces = link.loop.forces if link is not None else ForceChannel()
+        self.forces = link.forces if link is not None else ForceChannel()
         self.input_kind = "haptic" if link is not None else "tablet"
         self.status = StatusSlot()
         self.slab = MixingSlab()
@@ -201,7 +202,7 @@ class SimulationWorker(threading.Thread):
 
     def _take_samples(self) -> list[StylusSample]:
         if self.link is not None and self._fault is None:
-            _, state = self.link.loop.states.latest()
+            _, state = self.link.states.latest()
             sample = None if state is None else sample_from_state(state, 0.0)
             return [] if sample is None else [sample]
         batch: list[StylusSample] = []

@@ -1,6 +1,11 @@
 """The servo loop's real-time check: run it on the real clock with the simulated device, idle and
 beside a running 3D simulation, and collect the timing figures (``paintapp haptics-check``).
 
+Each run takes one of the two forms the window can use: the loop in a thread of this process
+(:func:`run_once`), or in a servo process of its own (:func:`run_process_once`, the window's
+default) with the force samples crossing through shared memory; the process form also reports
+what the OS granted it (priority, core, GC) and audits every device write.
+
 Idle, a light thread stands in for the painting session and publishes a synthetic viscous drag
 at 60 Hz. Under load, a thread steps the 3D scene ``sphere_stir_3d.toml`` as fast as it can and
 publishes its probe's force after every step, as the session will; if the solver or the scene is
@@ -20,6 +25,7 @@ import numpy as np
 from paintapp.haptics.channel import ForceChannel, ForceSample
 from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.devices.simulated import SimulatedDevice
+from paintapp.haptics.process import ProcessOptions, ServoProcess
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
 from paintapp.haptics.synthetic import ViscousDragSource, run_source_thread
 
@@ -37,6 +43,8 @@ class CheckRun:
         force_source: what published the force samples.
         samples_published: how many samples were published during the run.
         max_force_n: the largest force written to the device, N.
+        granted: where the loop ran and what the OS granted it.
+        bad_writes: non-finite or over-limit device writes (process form; None: not audited).
     """
 
     label: str
@@ -44,6 +52,8 @@ class CheckRun:
     force_source: str
     samples_published: int
     max_force_n: float
+    granted: str = "thread in this process"
+    bad_writes: int | None = None
 
 
 def load_simulation() -> tuple[SimStep, str]:
@@ -145,6 +155,49 @@ def run_once(
     return CheckRun(label, report, where, published, device.max_force_written_n)
 
 
+def run_process_once(
+    seconds: float,
+    config: ServoConfig,
+    simulation: tuple[SimStep, str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> CheckRun:
+    """Like :func:`run_once`, with the loop in a servo process of its own (the window's form):
+    the simulation (or the synthetic drag) runs here and publishes through shared memory."""
+    servo = ServoProcess(ProcessOptions(device="sim:stroke", config=config))
+    servo.start()
+    try:
+        if simulation is None:
+            stop = threading.Event()
+            source = ViscousDragSource(servo.states, servo.forces)
+            thread = run_source_thread(source, 60.0, stop)
+            _wait(seconds, progress)
+            stop.set()
+            thread.join(1.0)
+            label, where, published = "process, idle", "synthetic drag, 60 Hz", source.published
+        else:
+            step, where = simulation
+            with _simulation_thread(step, servo.forces) as count:
+                _wait(seconds, progress)
+                published = count[0]
+            label = "process, beside 3D"
+    finally:
+        report = servo.stop()
+    if report is None:
+        raise RuntimeError(f"the servo process ended without a report ({servo.fault})")
+    audit = servo.audit()
+    bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
+    max_force = float(audit.get("max_force_n", 0.0))
+    return CheckRun(label, report, where, published, max_force, servo.granted, bad)
+
+
+def _wait(seconds: float, progress: Callable[[float], None] | None) -> None:
+    start = time.perf_counter()
+    while (elapsed := time.perf_counter() - start) < seconds:
+        time.sleep(min(0.1, seconds - elapsed))
+        if progress is not None:
+            progress(min(time.perf_counter() - start, seconds))
+
+
 def _run_loop(
     loop: ServoLoop, clock: RealTimeClock, seconds: float, progress: Callable[[float], None] | None
 ) -> None:
@@ -169,10 +222,15 @@ def format_table(runs: list[CheckRun]) -> str:
     rows.append(("max force written (N)", [f"{r.max_force_n:.3f}" for r in runs]))
     rows.append(("safety faults", [str(r.report.safety["faults"]) for r in runs]))
     rows.append(("device fault", [r.report.device_fault or "none" for r in runs]))
+    rows.append(
+        ("bad device writes", ["-" if r.bad_writes is None else str(r.bad_writes) for r in runs])
+    )
     width = max(len(name) for name, _ in rows) + 2
     cols = [max(len(v[i]) for _, v in rows) + 2 for i in range(len(runs))]
     lines = [
         name.ljust(width) + "".join(v.rjust(c) for v, c in zip(vals, cols, strict=True))
         for name, vals in rows
     ]
+    granted = sorted({r.granted for r in runs if r.granted != "thread in this process"})
+    lines += [f"servo process: {g}" for g in granted]
     return "\n".join(lines)

@@ -278,6 +278,10 @@ def child_main(block_name: str, options: ProcessOptions, commands: Any, events: 
         None if options.duration_s is None else max(1, round(options.duration_s / clock.period_s))
     )
     try:
+        # One tick before the clock starts: it absorbs the first-time costs (a simulated hand
+        # integrating the time since it was opened, first calls into numpy) so that they do not
+        # show up as the first timed tick's lateness.
+        loop._guarded_tick(0, clock.now_s())
         timing = clock.run(host.tick, max_ticks)
     finally:
         loop.close()  # zero force, device closed
@@ -328,7 +332,7 @@ class ServoProcess:
         )
         self._lock = threading.Lock()
         self._fault: str | None = None
-        self._started = self._stopped = False
+        self._started = self._stopped = self._stopping = False
         self._beating = heartbeat
         self._beat_stop = threading.Event()
         self._beat_thread: threading.Thread | None = None
@@ -411,7 +415,7 @@ class ServoProcess:
     @property
     def fault(self) -> str | None:
         """Why the servo loop is not running (device fault, the child died or left), or None."""
-        if not self._started or self._stopped:
+        if not self._started or self._stopping:
             return self._fault
         self._drain()
         if self._fault is None and not self._proc.is_alive():
@@ -450,6 +454,7 @@ class ServoProcess:
         """Stop the child (it fades out and exits with zero force) and free the shared block."""
         if self._stopped:
             return self.report
+        self._stopping = True
         if self._started:
             if self._proc.is_alive():
                 with contextlib.suppress(OSError, ValueError):

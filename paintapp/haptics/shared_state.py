@@ -65,7 +65,8 @@ class SeqlockRecord:
     of completed writes.
     """
 
-    def __init__(self, buf: memoryview, offset: int, width: int) -> None:
+    def __init__(self, buf: memoryview, offset: int, width: int, keep: object = None) -> None:
+        self._keep = keep  # the mapping must outlive these views (see SharedBlock.close)
         self._version = np.ndarray((1,), np.int64, buf, offset)
         self.data = np.ndarray((width,), np.float64, buf, offset + 8)
         self.width = width
@@ -104,7 +105,8 @@ class SeqlockRecord:
 class TimingRing:
     """The last :data:`RING_TICKS` ticks' start intervals and work times, s (one writer)."""
 
-    def __init__(self, buf: memoryview, offset: int) -> None:
+    def __init__(self, buf: memoryview, offset: int, keep: object = None) -> None:
+        self._keep = keep
         self._count = np.ndarray((1,), np.int64, buf, offset)
         self.rows = np.ndarray((RING_TICKS, 2), np.float64, buf, offset + 8)
 
@@ -138,8 +140,11 @@ class SharedBlock:
     Args:
         name: attach to this existing segment; None creates a new one (the creator owns it and
             unlinks it in :meth:`close`).
-        track: register an attached segment with this process's resource tracker (a process that
-            merely looks at another's block, like a test, passes False so it never unlinks it).
+        track: leave an attached segment registered with this process's resource tracker (Python
+            < 3.13 registers every attach). Processes started by ``multiprocessing`` share their
+            parent's tracker, so for them the registration is a no-op and the tracker removes the
+            segment once they have all exited, even if the owner was killed. An unrelated process
+            that merely looks at a block passes False, so its own tracker never removes it.
     """
 
     def __init__(self, name: str | None = None, track: bool = True) -> None:
@@ -164,10 +169,10 @@ class SharedBlock:
         offsets = np.cumsum([0, *sizes]).tolist()
         self.header = np.ndarray((HEADER_INTS,), np.int64, buf, offsets[0])
         self._heartbeat = np.ndarray((1,), np.float64, buf, offsets[1])
-        self.force = SeqlockRecord(buf, offsets[2], FORCE_WIDTH)
-        self.state = SeqlockRecord(buf, offsets[3], STATE_WIDTH)
-        self.target = SeqlockRecord(buf, offsets[4], TARGET_WIDTH)
-        self.ring = TimingRing(buf, offsets[5])
+        self.force = SeqlockRecord(buf, offsets[2], FORCE_WIDTH, self.shm)
+        self.state = SeqlockRecord(buf, offsets[3], STATE_WIDTH, self.shm)
+        self.target = SeqlockRecord(buf, offsets[4], TARGET_WIDTH, self.shm)
+        self.ring = TimingRing(buf, offsets[5], self.shm)
         self.audit = np.ndarray((AUDIT_WIDTH,), np.float64, buf, offsets[6])
         if self.owner:
             self.header[:] = 0
@@ -221,11 +226,13 @@ class SharedBlock:
         }
 
     def close(self) -> None:
-        """Unmap the segment (and remove it, for the owner)."""
-        try:
-            self.shm.close()
-        except BufferError:  # a view is still alive somewhere; the OS unmaps at exit
-            pass
+        """Remove the segment's name (the owner; attachers do nothing).
+
+        The mapping itself stays until the last record over it is garbage: numpy views into it
+        do not pin it, so unmapping here could leave a channel still in use (a worker thread
+        publishing its last force) pointing at unmapped memory. Each record keeps the
+        :class:`~multiprocessing.shared_memory.SharedMemory` alive; it unmaps on collection.
+        """
         if self.owner:
             try:
                 self.shm.unlink()

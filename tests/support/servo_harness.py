@@ -40,7 +40,7 @@ def app_stand_in(conn: Connection, press_m: float = 0.0015) -> None:
 def seqlock_writer(name: str, writes: int) -> None:
     """Write ``writes`` records into the block's force record, every value equal to the write's
     index, as fast as possible (a reader must never see a mix)."""
-    block = SharedBlock(name, track=False)
+    block = SharedBlock(name)
     record: SeqlockRecord = block.force
     values = np.empty(record.width)
     for i in range(1, writes + 1):

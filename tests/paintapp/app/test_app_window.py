@@ -135,12 +135,14 @@ def test_help_overlay_and_shortcut_actions(window, pump):
 
 
 def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_path):
-    """With --device sim the servo loop steers the brush; a device failure mid-stroke keeps the
-    stroke (undoable, journalled) and hands the brush back to the pointer."""
+    """With --device sim the servo loop (the thread form, so the test can reach the device)
+    steers the brush; a device failure mid-stroke keeps the stroke (undoable, journalled) and
+    hands the brush back to the pointer."""
     from paintapp.app.launch import create_window
     from paintapp.haptics.device import DeviceError
 
-    _, win = create_window(_options(tmp_path, device=parse_device("sim")), interactive=False)
+    options = _options(tmp_path, device=parse_device("sim"), servo="thread")
+    _, win = create_window(options, interactive=False)
     try:
         win.load_pigment("cadmium_red")
         device = win.link.loop.device
@@ -156,7 +158,7 @@ def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_pa
         device.read = flaky_read
         win.link.target.set(START_M[0], START_M[1], 0.0, False)
         pump(0.5)
-        rate, jitter, seen = win.link.clock.live()
+        rate, jitter, seen = win.link.live()
         assert seen > 100 and rate > 500, (rate, jitter)
         win.link.target.set(START_M[0], START_M[1], 1.0, True)
         assert pump(10.0, lambda: win.worker.status.get().in_contact), "the hand never touched"
@@ -172,6 +174,45 @@ def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_pa
         first = read_strokes(tmp_path / "strokes.jsonl")
         assert any(isinstance(r, Marker) and "device fault" in r.label for r in first.records)
         assert (tmp_path / "strokes-2.jsonl").is_file()
+        stroke(win, START_M, END_M)  # the pointer paints on
+        _idle(win, pump, status.strokes + 1)
+    finally:
+        win.close()
+        pump(0.1)
+
+
+def test_servo_process_steers_the_brush_and_its_death_is_survived(qapp, pump, stroke, tmp_path):
+    """The default servo form is a process of its own: it steers the brush through shared
+    memory; SIGKILL of it mid-stroke is noticed, journalled, and the pointer paints on. The
+    device never got a non-finite or over-limit write."""
+    import os
+    import signal
+
+    from paintapp.app.launch import create_window
+
+    _, win = create_window(_options(tmp_path, device=parse_device("sim")), interactive=False)
+    try:
+        link = win.link
+        assert link.mode == "process" and link.process.heavy_modules == []
+        win.load_pigment("cadmium_red")
+        link.target.set(START_M[0], START_M[1], 0.0, False)
+        assert pump(10.0, lambda: link.live()[2] > 100), link.live()
+        assert "process" in win._servo_where()
+        link.target.set(START_M[0], START_M[1], 1.0, True)
+        assert pump(20.0, lambda: win.worker.status.get().in_contact), "the hand never touched"
+        for i in range(30):
+            x = START_M[0] + (END_M[0] - START_M[0]) * i / 29
+            link.target.set(x, START_M[1], 1.0, True)
+            pump(0.03)
+        audit = link.process.audit()
+        os.kill(link.process.pid, signal.SIGKILL)  # the servo process dies mid-stroke
+        assert pump(10.0, lambda: win.worker.status.get().fault is not None)
+        status = win.worker.status.get()
+        assert "servo process stopped" in status.fault and not status.in_contact
+        assert status.strokes >= 1 and _paint(win).max() > 0
+        first = read_strokes(tmp_path / "strokes.jsonl")
+        assert any(isinstance(r, Marker) and "servo process" in r.label for r in first.records)
+        assert audit["nonfinite_writes"] == 0 and audit["over_limit_writes"] == 0, audit
         stroke(win, START_M, END_M)  # the pointer paints on
         _idle(win, pump, status.strokes + 1)
     finally:

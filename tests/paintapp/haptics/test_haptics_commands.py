@@ -94,3 +94,27 @@ def test_run_once_with_the_synthetic_fluid_engages_and_publishes() -> None:
     assert run.samples_published > 20 and run.report.fluid["fresh_samples"] > 0
     assert run.max_force_n > 0.0  # the stroke reached the canvas and the wall pushed back
     assert run.report.device_fault is None
+
+
+def test_haptics_check_runs_the_process_form(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
+) -> None:
+    workload = (check.synthetic_workload(cells=24, sweeps=2), "synthetic 3D numpy workload")
+    monkeypatch.setattr(check, "load_simulation", lambda: workload)
+    assert main(["haptics-check", "--seconds", "0.5", "--form", "process"]) == 0
+    out = capsys.readouterr().out
+    header = next(line for line in out.splitlines() if "process, idle" in line)
+    assert "process, beside 3D" in header
+    assert "servo process: " in out and "GC off" in out  # what the OS granted it
+    bad = next(line for line in out.splitlines() if line.startswith("bad device writes"))
+    assert bad.split()[-2:] == ["0", "0"]
+    assert "verdict: process" in out
+
+
+def test_run_process_once_publishes_through_shared_memory() -> None:
+    from paintapp.haptics.servo import ServoConfig
+
+    run = check.run_process_once(1.0, ServoConfig(record=False))
+    assert run.report.timing is not None and run.report.timing.ticks > 500
+    assert run.samples_published > 20 and run.report.fluid["fresh_samples"] > 0
+    assert run.bad_writes == 0 and run.report.device_fault is None

@@ -8,6 +8,7 @@ run on are shared and loaded).
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing as mp
 import os
 import signal
@@ -114,7 +115,7 @@ def test_sigkill_of_the_app_fades_to_zero_and_exits():
         started = wait_for(lambda: ours.poll() or not app.is_alive(), 60.0)
         assert started and app.is_alive(), "the stand-in app did not start its servo process"
         name, servo_pid = ours.recv()
-        block = SharedBlock(name, track=False)
+        block = SharedBlock(name)
         pressing = wait_for(lambda: block.audit_counts()["last_force_n"] > 0.05, 30.0)
         assert pressing, block.audit_counts()
         os.kill(app.pid, signal.SIGKILL)
@@ -130,7 +131,8 @@ def test_sigkill_of_the_app_fades_to_zero_and_exits():
         if block is not None:
             if block.phase != PHASE_EXITED and block.pid and not gone(block.pid):
                 os.kill(block.pid, signal.SIGKILL)
-            block.close()
+            with contextlib.suppress(FileNotFoundError):
+                block.shm.unlink()  # its owner was killed
 
 
 def test_sigkill_of_the_servo_process_is_noticed():

@@ -22,7 +22,7 @@ from tests.support.servo_harness import seqlock_writer
 @pytest.fixture
 def blocks():
     owner = SharedBlock()
-    other = SharedBlock(owner.name, track=False)
+    other = SharedBlock(owner.name)
     yield owner, other
     other.close()
     owner.close()
