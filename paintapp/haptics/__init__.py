@@ -13,6 +13,8 @@ into a :class:`~paintapp.haptics.channel.StateChannel` for the session. The modu
   :mod:`.recorder` the loop's stages
 - :mod:`.device` the device interface: HapticDevice, DeviceInfo, DeviceState
 - :mod:`.orientation` stylus quaternion <-> tablet tilt and twist
+- :mod:`.process`, :mod:`.shared_state`, :mod:`.realtime` the loop in a process of its own (the
+  window's form): shared-memory seqlock channels, real-time priority, fail-safe exits
 - :mod:`.synthetic` a synthetic force source (checks and tests)
 - :mod:`.devices` the drivers: simulated hand, stroke-file playback, USB HID
 

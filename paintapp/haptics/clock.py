@@ -30,15 +30,14 @@ jobs, which no choice here avoids. The GIL shows only where the neighbour runs P
 stretch: the interpreter hands the GIL over once per switch interval (5 ms by default), which is
 why the solver's Python glue between its ``nogil`` kernels costs the thread a few milliseconds.
 
-Decision: a thread, with the interpreter's switch interval lowered to 0.5 ms while it runs
-(restored afterwards). With that the thread is late by more than a tick on 0.3-2 % of ticks
-beside the solver, against 0.2-0.6 % for a process, and those late ticks are 1-3 ms late: the
-device holds its last force meanwhile, which a fluid force already delayed ~12 ms by its filter
-and a damped canvas wall tolerate. A process would have to own the device (HID handles do not
-cross processes) and exchange forces, states and logs through shared memory. If
-``paintapp haptics-check`` shows more than about 2 % late ticks on the target machine, moving
-the servo loop into a process is the next step; the loop only touches the device and the two
-channels, so it can move without other changes.
+Decision, first: a thread, with the interpreter's switch interval lowered to 0.5 ms while it
+runs. In the painting window that did not hold: beside the GUI (llvmpipe rendering) and the
+simulation worker the thread reached 635 Hz with lateness p99 8.4 ms and a 1.3 s stall
+(``benchmarks/bench_app.py --device sim``). So the window now runs the loop in a process of its
+own (:mod:`paintapp.haptics.process`, shared memory through :mod:`paintapp.haptics.shared_state`,
+``SCHED_FIFO`` and a pinned core where granted: :mod:`paintapp.haptics.realtime`), where it
+keeps 1 kHz with p99 lateness under 0.1 ms on the same machines; the thread form stays for
+tests, ``haptics-check --form thread`` and as the fallback when no process can be started.
 """
 
 from __future__ import annotations
