@@ -7,13 +7,21 @@ of ``k`` texels), so re-centring the grid by whole cells keeps every column on t
 
 Paint in the grid is the *wet* (mobile) part of the canvas paint: a texel with paint ``P_p``
 (metres, per pigment) and wetness ``w`` holds ``w P_p`` of mobile paint; the rest is dry and stays
-put. :meth:`ColumnWindow.gather` averages the mobile paint over each column's block;
-:meth:`ColumnWindow.write_back` spreads a column's change over its block: a gain is added evenly
-(as fresh, fully wet paint), a loss takes the same fraction of every texel's mobile paint. Each
-texel's new wetness is its mobile share of its paint (a texel has one wetness for all its
-pigments, so its total of dry paint is kept, not each pigment's). Columns whose change is exactly zero are not
-touched, and texel totals change by exactly ``k^2`` times the column change (to float32
-round-off), so paint is conserved. Columns not wholly on the canvas hold no paint and are walls.
+put. Columns and texels trade paint through a tent (bilinear hat) kernel, the same both ways: a
+texel at distance ``(dx, dy)`` texels from a column's centre has weight
+``max(0, 1 - |dx| / k) max(0, 1 - |dy| / k)``, so a column reaches one cell beyond its block and
+the weights of the columns at a texel sum to 1 (a partition of unity). :meth:`ColumnWindow.gather`
+gives each column its tent-weighted mobile paint over its area ``k^2``;
+:meth:`ColumnWindow.write_back` lays a column's gain down with its tent weights (as fresh, fully
+wet paint) and takes a loss as the same fraction of the tent-weighted mobile paint of every texel
+in its support. A box spread (each column's change evenly over its own block) printed the ``k``
+-texel lattice into the paint; the tent spread interpolates linearly between column centres.
+Each texel's new wetness is its mobile share of its paint (a texel has one wetness for all its
+pigments, so its total of dry paint is kept, not each pigment's). Texels whose change is exactly
+zero are not touched (bit-exact), and texel totals change by exactly ``k^2`` times the column
+change (to round-off), so paint is conserved. Columns not wholly on the canvas hold no paint and
+are walls; a column at the canvas edge has its tent clipped there (its gains are normalised over
+the texels it reaches).
 """
 
 from __future__ import annotations
@@ -24,6 +32,13 @@ import numpy as np
 
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
+
+#: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
+#: (:func:`drop_thin_films`). 0.1 um: far below any visible layer of paint.
+FILM_FLOOR_M = 1e-7
+
+#: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
+FULLY_WET = 1.0 - 2.0**-20
 
 
 def square_texel_m(canvas: Canvas) -> float:
@@ -111,31 +126,40 @@ class ColumnWindow:
         return mask
 
     def _texel_block(self, r: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+        """Texels (x0, y0, x1, y1), half-open and clipped to the canvas, that the tents of
+        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and one cell around)."""
         i0, i1, j0, j1 = r
         ox, oy = self.origin_texel
-        return ox + i0 * self.k, oy + j0 * self.k, ox + i1 * self.k, oy + j1 * self.k
+        k, (w, h) = self.k, self.pixels
+        x0, x1 = max(0, ox + (i0 - 1) * k), min(w, ox + (i1 + 1) * k)
+        y0, y1 = max(0, oy + (j0 - 1) * k), min(h, oy + (j1 + 1) * k)
+        return x0, y0, x1, y1
 
-    def _mobile(self, canvas: Canvas, r: tuple[int, int, int, int]):
-        x0, y0, x1, y1 = self._texel_block(r)
+    def _tents(self, r: tuple[int, int, int, int], box: tuple[int, int, int, int]):
+        """Tent weights of columns ``r`` over the texels of ``box``: (ni, nx_t), (nj, ny_t)."""
+        return (
+            tent_weights(self.origin_texel[0], self.k, r[0], r[1], box[0], box[2]),
+            tent_weights(self.origin_texel[1], self.k, r[2], r[3], box[1], box[3]),
+        )
+
+    def _mobile(self, canvas: Canvas, box: tuple[int, int, int, int]):
+        x0, y0, x1, y1 = box
         paint = canvas.paint_m[:, y0:y1, x0:x1].astype(np.float64)
         wet = canvas.wetness[y0:y1, x0:x1].astype(np.float64)
+        wet[wet >= FULLY_WET] = 1.0  # float32 round-off of fresh paint is no dry residue
         return paint, wet, paint * wet
 
-    def _column_means(self, texels: np.ndarray) -> np.ndarray:
-        """(P, ny_t, nx_t) texel values -> (P, ni, nj) column means (grid order: x first)."""
-        p, ht, wt = texels.shape
-        k = self.k
-        blocks = texels.reshape(p, ht // k, k, wt // k, k).mean(axis=(2, 4))
-        return blocks.transpose(0, 2, 1)
-
     def gather(self, canvas: Canvas) -> np.ndarray:
-        """Mobile paint per column and pigment, (P, nx, ny) float64, metres (0 off the canvas)."""
+        """Mobile paint per column and pigment, (P, nx, ny) float64, metres (0 off the canvas):
+        the tent-weighted sum of the texels' mobile paint over the column's area ``k^2``."""
         out = np.zeros((len(canvas.pigment_names), *self.cells))
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
             return out
-        _, _, mobile = self._mobile(canvas, r)
-        out[:, r[0] : r[1], r[2] : r[3]] = self._column_means(mobile)
+        box = self._texel_block(r)
+        wx, wy = self._tents(r, box)
+        _, _, mobile = self._mobile(canvas, box)
+        out[:, r[0] : r[1], r[2] : r[3]] = _to_columns(mobile, wx, wy) / self.k**2
         return out
 
     def write_back(self, canvas: Canvas, delta_m: np.ndarray) -> None:
@@ -150,28 +174,89 @@ class ColumnWindow:
         ci, cj = np.nonzero(changed)
         sub = (r[0] + ci.min(), r[0] + ci.max() + 1, r[2] + cj.min(), r[2] + cj.max() + 1)
         delta = delta_m[:, sub[0] : sub[1], sub[2] : sub[3]]
-        paint, wet, mobile = self._mobile(canvas, sub)
-        new_mobile = _spread_change(mobile, self._column_means(mobile), delta, self.k)
+        box = self._texel_block(sub)
+        wx, wy = self._tents(sub, box)
+        paint, wet, mobile = self._mobile(canvas, box)
+        owned = _to_columns(mobile, wx, wy)
+        change = drop_thin_films(owned, delta * self.k**2, FILM_FLOOR_M * self.k**2)
+        new_mobile, touched = _spread_change(mobile, owned, change, wx, wy)
+        if not touched.any():
+            return
         new_paint = paint * (1.0 - wet) + new_mobile  # dry part + new wet part
         total = new_paint.sum(axis=0)
         with np.errstate(invalid="ignore", divide="ignore"):
             new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
-        keep = ~np.repeat(np.repeat(np.any(delta != 0.0, axis=0).T, self.k, 0), self.k, 1)
-        new_paint[:, keep] = paint[:, keep]
-        new_wet[keep] = wet[keep]
-        x0, y0, _, _ = self._texel_block(sub)
-        canvas.write_region(x0, y0, new_paint, np.clip(new_wet, 0.0, 1.0))
+        new_paint[:, ~touched] = paint[:, ~touched]
+        new_wet[~touched] = wet[~touched]
+        canvas.write_region(box[0], box[1], new_paint, np.clip(new_wet, 0.0, 1.0))
 
 
-def _spread_change(mobile: np.ndarray, column: np.ndarray, delta: np.ndarray, k: int) -> np.ndarray:
-    """New mobile paint per texel (P, ny_t, nx_t) after column changes ``delta`` (P, ni, nj):
-    gains added evenly, losses taken as a common fraction of each texel's mobile paint."""
+def tent_weights(origin: int, k: int, i0: int, i1: int, t0: int, t1: int) -> np.ndarray:
+    """(i1 - i0, t1 - t0) bilinear-hat weights ``max(0, 1 - |x_t - c_i| / k)`` of texels
+    ``t0..t1-1`` (centres ``x_t = t + 1/2``) for columns ``i0..i1-1`` (centres
+    ``c_i = origin + (i + 1/2) k``), texel units. Inside the window's columns they sum to 1 over
+    the columns at every texel (a partition of unity), and to ``k`` over the texels of a column."""
+    centres = origin + (np.arange(i0, i1) + 0.5) * k
+    texels = np.arange(t0, t1) + 0.5
+    return np.maximum(1.0 - np.abs(texels[None, :] - centres[:, None]) / k, 0.0)
 
-    def texels(per_column: np.ndarray) -> np.ndarray:
-        return np.repeat(np.repeat(per_column.transpose(0, 2, 1), k, 1), k, 2)
 
+def _to_columns(texels: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
+    """(P, ny_t, nx_t) texel values -> (P, ni, nj) tent-weighted sums (grid order: x first)."""
+    return (wy @ texels @ wx.T).transpose(0, 2, 1)
+
+
+def _to_texels(columns: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
+    """(P, ni, nj) column values -> (P, ny_t, nx_t) tent-weighted sums over the columns."""
+    return wy.T @ columns.transpose(0, 2, 1) @ wx
+
+
+def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.ndarray:
+    """Column changes (P, ni, nj) with no column left holding a wet film thinner than ``floor``.
+
+    The grid's transport is upwind, so every step smears an exponentially thin tail of paint
+    over the whole grid (1e-19 m and less); written to the canvas it would put paint everywhere.
+    A changed column whose wet paint (``owned + change``, all pigments) ends below ``floor`` is
+    emptied instead, and what it would have held goes, per pigment, to the columns gaining that
+    pigment (in proportion to their gains), else to those losing it (their losses shrink), else
+    to the column holding most of it: paint stays conserved and nothing turns negative."""
+    after = np.maximum(owned + change, 0.0)
+    total = after.sum(axis=0)
+    thin = (total < floor) & np.any(change != 0.0, axis=0)
+    if not thin.any() or thin.sum() == thin.size:
+        return change
+    out = change.copy()
+    out[:, thin] = -owned[:, thin]
+    freed = after[:, thin].sum(axis=1)
+    keep = ~thin & np.any(change != 0.0, axis=0)
+    for p in np.flatnonzero(freed > 0.0):
+        gains = np.where(keep & (change[p] > 0.0), change[p], 0.0)
+        if not gains.any():
+            gains = np.where(keep & (change[p] < 0.0), -change[p], 0.0)
+        if gains.any():
+            out[p] += freed[p] * gains / gains.sum()
+        else:
+            held = np.where(~thin, after[p], 0.0)
+            out[p].flat[int(np.argmax(held))] += freed[p]
+    return out
+
+
+def _spread_change(
+    mobile: np.ndarray, owned: np.ndarray, change: np.ndarray, wx: np.ndarray, wy: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """New mobile paint per texel (P, ny_t, nx_t) after column changes ``change`` (P, ni, nj,
+    texel volumes: metres times texels; ``owned``: the columns' tent-weighted mobile paint in
+    the same units), and the (ny_t, nx_t) texels that changed.
+
+    A gain is laid down with the column's tent weights, normalised over its texels on the
+    canvas; a loss takes the same fraction ``f`` of the tent-weighted mobile paint of every texel
+    in the column's support (``f <= 1``, so with the weights' partition of unity no texel loses
+    more than it holds)."""
+    support = np.outer(wx.sum(axis=1), wy.sum(axis=1))[None]  # (1, ni, nj)
+    gain = np.maximum(change, 0.0) / support
     with np.errstate(invalid="ignore", divide="ignore"):
-        factor = np.where(column > 0.0, np.maximum(column + delta, 0.0) / column, 1.0)
-    gain = np.maximum(delta, 0.0)
-    factor = np.where(delta >= 0.0, 1.0, factor)
-    return mobile * texels(factor) + texels(gain)
+        fraction = np.where((change < 0.0) & (owned > 0.0), -change / owned, 0.0)
+    lost = mobile * _to_texels(np.minimum(fraction, 1.0), wx, wy)
+    laid = _to_texels(gain, wx, wy)
+    touched = np.any((lost > 0.0) | (laid > 0.0), axis=0)
+    return np.maximum(mobile - lost, 0.0) + laid, touched

@@ -7,8 +7,11 @@ new pose while it stays in contact (the caller does nothing while it is in the a
 canvas, lets the model move it (and trade it with the brush), and writes the change back; the
 grid itself keeps no paint between steps, only its fluid velocity.
 
-Gaps between poses longer than ``scene.max_step_s`` are split into equal sub-steps along the
-straight line between the poses.
+Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels more than
+:data:`MAX_TRAVEL_CELLS` cells, are split into equal sub-steps along the straight line between the
+poses: the brush then touches every column along its path, and with the tent transfer between
+columns and texels (:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even
+band instead of a comb of separate prints.
 
 A model builds no more than is read: :class:`ForceNeeds` says whether anyone reads the force
 (without, the solver does no force work) and the torque (without, none is published); with
@@ -33,6 +36,9 @@ from paintapp.paint.columns import ColumnWindow, cell_texels, square_texel_m
 from paintapp.paint.exchange import ExchangeReport
 from paintapp.paint.paint_scene import PaintScene
 from solver.simulation import SolverSettings
+
+#: Longest lateral travel of the tip in one paint step, in cells (longer moves are sub-stepped).
+MAX_TRAVEL_CELLS = 1.0
 
 
 def brush_width_m(preset: BrushPreset) -> float:
@@ -190,7 +196,12 @@ class PaintModel(ABC):
             self.touch_down(pose)
         assert self.pose is not None
         start = self.pose
-        n = max(1, math.ceil(dt_s / self.scene.max_step_s - 1e-9))
+        travel = float(np.hypot(*(pose.position_m[:2] - start.position_m[:2])))
+        n = max(
+            1,
+            math.ceil(dt_s / self.scene.max_step_s - 1e-9),
+            math.ceil(travel / (MAX_TRAVEL_CELLS * self.cell_size_m) - 1e-9),
+        )
         result = PaintStep()
         for s in range(n):
             f = (s + 1) / n

@@ -97,10 +97,10 @@ def test_auto_switches_with_hysteresis():
     canvas = covered(0.3e-3)  # between thin_below (0.2 mm) and thick_above (0.4 mm)
     session = PaintingSession(canvas, "round_small", scene("auto"))
     samples = stroke(0.6)
-    paint(session, samples[:8])
+    paint(session, samples[:3])  # before the tip has carved its trough
     assert session.selector.plan.fluid == "grid3d"  # at touch-down: not thinner than 0.2 mm
     canvas.paint_m[0] = 0.1e-3  # thin: over to the depth-averaged grid
-    paint(session, samples[8:14])
+    paint(session, samples[3:14])
     assert session.selector.plan.fluid == "depth_averaged"
     canvas.paint_m[0] = 0.3e-3  # inside the band: stays
     paint(session, samples[14:20])
@@ -148,9 +148,9 @@ def test_the_fitted_grid_follows_the_brush():
 
 
 def test_a_fitted_model_keeps_the_cell_size_and_uses_fewer_cells():
-    canvas = covered(0.3e-3)
+    canvas = covered(0.5e-3)  # thick: the tip's trough stays above thin_below (0.2 mm)
     fitted = PaintingSession(canvas, "round_large", scene("auto", fit_grid=True))
-    full = PaintingSession(covered(0.3e-3), "round_large", scene("auto", fit_grid=False))
+    full = PaintingSession(covered(0.5e-3), "round_large", scene("auto", fit_grid=False))
     for session in (fitted, full):
         paint(session, stroke(0.1))
     assert fitted.model.cell_size_m == full.model.cell_size_m

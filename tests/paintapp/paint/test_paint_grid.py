@@ -59,9 +59,11 @@ def test_gather_takes_only_the_wet_paint_and_unchanged_columns_are_not_written()
     assert r is not None
     i, j = r[0] + 3, r[2] + 5
     x0, y0 = window.origin_texel[0] + 2 * i, window.origin_texel[1] + 2 * j
-    np.testing.assert_allclose(
-        columns[:, i, j], mobile[:, y0 : y0 + 2, x0 : x0 + 2].mean(axis=(1, 2))
-    )
+    near = mobile[:, y0 - 2 : y0 + 4, x0 - 2 : x0 + 4]  # the block and one cell around
+    hat = np.maximum(1.0 - np.abs(np.arange(-2, 4) + 0.5 - 1.0) / 2.0, 0.0)  # tent, k = 2
+    np.testing.assert_allclose(hat.sum(), 2.0)
+    expected = (near * hat[None, :, None] * hat[None, None, :]).sum(axis=(1, 2)) / 4.0
+    np.testing.assert_allclose(columns[:, i, j], expected)
     before = canvas.paint_m.copy(), canvas.wetness.copy()
     canvas.take_dirty()
     window.write_back(canvas, np.zeros_like(columns))

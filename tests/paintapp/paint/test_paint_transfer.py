@@ -6,8 +6,12 @@ import dataclasses
 
 import numpy as np
 import pytest
+from scipy.ndimage import binary_fill_holes
 
+from paintapp.canvas.lattice import lattice_ratio
 from paintapp.canvas.model import Canvas
+from paintapp.paint.columns import FILM_FLOOR_M
+from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
@@ -100,7 +104,8 @@ def test_a_loaded_brush_lays_down_what_leaves_its_reservoir():
     laid = paint_inventory(canvas, session.reservoir)[BLUE] - session.reservoir.total_m3
     assert 0.1 * 1.5e-8 < laid < 1.5e-8
     np.testing.assert_allclose(laid + session.reservoir.total_m3, 1.5e-8, rtol=1e-6)
-    assert canvas.wetness[canvas.height_m > 0].min() > 0.9  # fresh paint is wet
+    film = canvas.height_m > FILM_FLOOR_M  # thinner: dried residue of emptied thin films
+    assert canvas.wetness[film].min() > 0.9  # fresh paint is wet
 
 
 def test_wetness_decays_at_the_scene_rate():
@@ -110,3 +115,27 @@ def test_wetness_decays_at_the_scene_rate():
     session.advance_time(0.0)
     session.advance_time(2.0)
     np.testing.assert_allclose(canvas.wetness[40, 40], np.exp(-1.0), rtol=1e-5)
+
+
+def test_a_stroke_prints_no_cell_lattice_no_halo_and_no_holes():
+    canvas = Canvas((128, 128), (0.032, 0.032), (BLUE,))
+    session = PaintingSession(canvas, "round_small", small_scene())
+    session.load_pigment(BLUE, 2e-8)
+    before = paint_inventory(canvas, session.reservoir)[BLUE]
+    start, end = (0.006, 0.009), (0.026, 0.015)
+    paint(session, StrokeSpec(start, end, 0.3, 0.8), 0.0)  # fast: 2 or more cells a sample
+    np.testing.assert_allclose(paint_inventory(canvas, session.reservoir)[BLUE], before, rtol=1e-6)
+    height = canvas.height_m.astype(np.float64)
+    k = session.model.window.k
+    assert lattice_ratio(height, k) <= 1.15  # no k-texel lattice (a box spread gives > 2)
+    # Nothing beyond the footprint, the ring that takes pushed paint and the tent's reach.
+    h = session.model.cell_size_m
+    reach = 0.5 * brush_width_m(session.model.preset) + 2.0 * h
+    texel = canvas.texel_size_m[0]
+    y, x = (np.mgrid[0:128, 0:128] + 0.5) * texel
+    a, b = np.array(start), np.array(end)
+    s = np.clip(((x - a[0]) * (b - a)[0] + (y - a[1]) * (b - a)[1]) / np.sum((b - a) ** 2), 0, 1)
+    far = np.hypot(x - a[0] - s * (b - a)[0], y - a[1] - s * (b - a)[1]) > reach
+    assert height[~far].max() > 1e-5 and not height[far].any() and not canvas.wetness[far].any()
+    painted = height > 0.0
+    assert not (binary_fill_holes(painted) & ~painted).any()  # unbroken: no holes inside

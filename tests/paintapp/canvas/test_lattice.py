@@ -1,0 +1,38 @@
+"""The lattice measure: a box-spread image shows its period, a smooth one does not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from paintapp.canvas.lattice import lattice_ratio, lattice_table
+
+
+def smooth_image(n: int = 120) -> np.ndarray:
+    y, x = np.mgrid[0:n, 0:n] / n
+    return np.sin(7.3 * x + 2.1 * y) + np.cos(5.1 * y - 1.7 * x)
+
+
+def test_a_smooth_image_has_no_lattice_at_any_period():
+    table = lattice_table(smooth_image())
+    assert max(table.values()) < 1.1
+
+
+def test_box_blocks_show_their_period_and_a_tent_interpolation_does_not():
+    rng = np.random.default_rng(0)
+    k = 5
+    columns = rng.random((24, 24))
+    boxes = np.kron(columns, np.ones((k, k)))  # each column's value over its k x k block
+    assert lattice_ratio(boxes, k) > 3.0
+    centres = (np.arange(24) + 0.5) * k
+    texels = np.arange(24 * k) + 0.5
+    hat = np.maximum(1.0 - np.abs(texels[None, :] - centres[:, None]) / k, 0.0)
+    tent = hat.T @ columns @ hat  # the same columns through the tent kernel
+    inner = tent[k:-k, k:-k]
+    assert lattice_ratio(inner, k) < 1.1
+    assert lattice_ratio(np.dstack([inner, 2 * inner]), k) < 1.1  # colour: channels together
+
+
+def test_bad_periods_are_refused():
+    with pytest.raises(ValueError):
+        lattice_ratio(np.zeros((4, 4)), 4)
