@@ -4,6 +4,9 @@ Each sub-command lives in its own module under :mod:`paintapp.commands` and expo
 ``register(subparsers)``, which adds its parser and sets ``func`` (a callable taking the parsed
 arguments and returning an exit status). Modules are discovered, so adding a command is adding a
 file.
+
+Errors are one line on stderr, never a traceback: bad input (:class:`InputError`) exits with status
+2, a write that failed mid-run (an :class:`OSError`: disk full, ...) or running out of memory with 1.
 """
 
 from __future__ import annotations
@@ -47,6 +50,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as exc:
         print(f"paintapp {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # a write that failed mid-run (disk full, ...): one line
+        print(f"paintapp {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except MemoryError:
+        print(
+            f"paintapp {args.command}: error: out of memory; try a smaller grid or canvas",
+            file=sys.stderr,
+        )
+        return 1
     except KeyboardInterrupt:
         print(f"paintapp {args.command}: interrupted", file=sys.stderr)
         return 130
