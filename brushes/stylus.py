@@ -21,8 +21,10 @@ MAX_BUTTONS = 2**31 - 1
 def _finite_vector(value: Any, size: int, key: str) -> np.ndarray:
     try:
         arr = np.array(value, dtype=float)
+    except OverflowError:  # an integer beyond floating point's range
+        raise InputError(f"expected {size} finite numbers, got a huge integer", key=key) from None
     except (TypeError, ValueError):
-        raise InputError(f"expected {size} numbers, got {value!r}", key=key) from None
+        raise InputError(f"expected {size} numbers, got {value!r:.80}", key=key) from None
     if arr.shape != (size,):
         raise InputError(f"expected {size} numbers, got shape {arr.shape}", key=key)
     if not np.all(np.isfinite(arr)):
@@ -32,8 +34,11 @@ def _finite_vector(value: Any, size: int, key: str) -> np.ndarray:
 
 def _finite(value: Any, key: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise InputError(f"expected a number, got {value!r}", key=key)
-    value = float(value)
+        raise InputError(f"expected a number, got {value!r:.80}", key=key)
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond floating point's range
+        raise InputError("expected a finite number, got a huge integer", key=key) from None
     if not math.isfinite(value):
         raise InputError(f"expected a finite number, got {value}", key=key)
     return value

@@ -6,6 +6,12 @@ validates a file: a malformed line stops with an :class:`InputError` giving the 
 the field, except that an unfinished last line (no trailing newline, not valid JSON: what a crash
 in the middle of a write leaves) is dropped and reported through ``StrokeFile.truncated``. Writing files as they are painted is
 :mod:`paintapp.strokes.recorder`'s job.
+
+Hostile input gets the same treatment: a UTF-8 byte order mark at the start is skipped (Windows
+editors write one); JSON nested more than :data:`MAX_JSON_DEPTH` levels is refused with its line.
+Times may jump: a pause longer than :data:`MAX_GAP_S` between two records is kept and listed in
+``StrokeFile.gaps`` (line, seconds), and a replay plays it in bounded work
+(:mod:`paintapp.session.playback`).
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ from __future__ import annotations
 import json
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -54,6 +61,12 @@ __all__ = [
     "read_strokes",
 ]
 
+#: How deeply a line's JSON may nest (a header's free-form ``device`` object included).
+MAX_JSON_DEPTH = 16
+#: A pause between two consecutive records longer than this (s) is a gap (``StrokeFile.gaps``).
+MAX_GAP_S = 1.0
+_BOM = b"\xef\xbb\xbf"
+
 
 @dataclass(frozen=True)
 class SampleArrays:
@@ -80,6 +93,8 @@ class StrokeFile:
         truncated: True when an unfinished last line was dropped.
         warning: what was dropped and why, when ``truncated``; else None.
         source: the file it came from.
+        lines: the line number of each record (empty when the records did not come from a file).
+        gaps: (line, seconds) for every record more than :data:`MAX_GAP_S` after the one before.
     """
 
     header: StrokeHeader
@@ -87,14 +102,26 @@ class StrokeFile:
     truncated: bool = False
     warning: str | None = None
     source: str | None = None
+    lines: tuple[int, ...] = ()
     samples: tuple[StylusSample, ...] = field(init=False)
     events: tuple[StrokeEvent, ...] = field(init=False)
+    gaps: tuple[tuple[int | None, float], ...] = field(init=False)
 
     def __post_init__(self) -> None:
         samples = tuple(r for r in self.records if isinstance(r, StylusSample))
         events = tuple(r for r in self.records if not isinstance(r, StylusSample))
         object.__setattr__(self, "samples", samples)
         object.__setattr__(self, "events", events)
+        gaps = tuple(
+            (self.line_of(i), b.t_s - a.t_s)
+            for i, (a, b) in enumerate(pairwise(self.records), start=1)
+            if b.t_s - a.t_s > MAX_GAP_S
+        )
+        object.__setattr__(self, "gaps", gaps)
+
+    def line_of(self, index: int) -> int | None:
+        """The line number of record ``index`` (None when unknown)."""
+        return self.lines[index] if 0 <= index < len(self.lines) else None
 
     @property
     def duration_s(self) -> float:
@@ -134,7 +161,36 @@ def _lines(data: bytes) -> Iterator[tuple[int, bytes, bool]]:
 
 def _parse_json(raw: bytes) -> Any:
     text = raw.decode("utf-8").rstrip("\r")
-    return json.loads(text, object_pairs_hook=_no_duplicates)
+    try:
+        obj = json.loads(text, object_pairs_hook=_no_duplicates)
+    except RecursionError:
+        raise _TooDeep() from None
+    if _depth(obj) > MAX_JSON_DEPTH:
+        raise _TooDeep()
+    return obj
+
+
+class _TooDeep(ValueError):
+    def __str__(self) -> str:
+        return f"JSON nested more than {MAX_JSON_DEPTH} levels deep; expected a flat record"
+
+
+def _depth(obj: Any) -> int:
+    """How deeply ``obj`` nests lists and objects (a scalar: 0), without recursion."""
+    deepest, stack = 0, [(obj, 1)]
+    while stack:
+        value, level = stack.pop()
+        if isinstance(value, dict):
+            children: Any = value.values()
+        elif isinstance(value, list):
+            children = value
+        else:
+            continue
+        deepest = max(deepest, level)
+        if level > MAX_JSON_DEPTH:
+            break
+        stack.extend((child, level + 1) for child in children)
+    return deepest
 
 
 def _located(exc: InputError, source: str, line: int) -> InputError:
@@ -156,8 +212,11 @@ def read_strokes(path: str | Path, *, allow_truncated: bool = True) -> StrokeFil
         raise InputError("no such stroke file", source=source) from None
     except OSError as exc:
         raise InputError(f"cannot read the stroke file: {exc}", source=source) from None
+    if data.startswith(_BOM):
+        data = data[len(_BOM) :]
     header: StrokeHeader | None = None
     records: list[StrokeRecord] = []
+    lines: list[int] = []
     warning = None
     for number, raw, unfinished in _lines(data):
         if unfinished and not raw.strip(b"\x00"):
@@ -167,6 +226,8 @@ def read_strokes(path: str | Path, *, allow_truncated: bool = True) -> StrokeFil
             continue
         try:
             obj = _parse_json(raw)
+        except _TooDeep as exc:
+            raise InputError(str(exc), source=source, line=number) from None
         except ValueError as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
             if unfinished and header is not None and allow_truncated:
                 warning = f"line {number} is unfinished (the recording was cut short); dropped"
@@ -178,13 +239,14 @@ def read_strokes(path: str | Path, *, allow_truncated: bool = True) -> StrokeFil
                 header = StrokeHeader.from_dict(obj)
                 continue
             records.append(_record(obj, header, records[-1].t_s if records else None))
+            lines.append(number)
         except InputError as exc:
             raise _located(exc, source, number) from None
     if header is None:
         raise InputError("empty file; expected the header line", source=source, line=1)
     if warning is not None and not allow_truncated:
         raise InputError(warning, source=source)
-    return StrokeFile(header, tuple(records), warning is not None, warning, source)
+    return StrokeFile(header, tuple(records), warning is not None, warning, source, tuple(lines))
 
 
 def _record(obj: Any, header: StrokeHeader, last_t_s: float | None) -> StrokeRecord:

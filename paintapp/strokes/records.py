@@ -30,6 +30,12 @@ def _fail(message: str, key: str) -> InputError:
     return InputError(message, key=key)
 
 
+def _shown(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, cut to ``limit`` characters (a hostile value can be huge)."""
+    text = repr(value) if not isinstance(value, int) or abs(value) < 10**30 else "a huge integer"
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _number(data: Mapping[str, Any], key: str, *, required: bool = True, default: float = 0.0):
     if key not in data:
         if required:
@@ -37,10 +43,14 @@ def _number(data: Mapping[str, Any], key: str, *, required: bool = True, default
         return default
     value = data[key]
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise _fail(f"expected a number, got {value!r}", key)
+        raise _fail(f"expected a number, got {_shown(value)}", key)
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond floating point's range
+        raise _fail("expected a finite number, got a huge integer", key) from None
     if not math.isfinite(value):
         raise _fail(f"expected a finite number, got {value}", key)
-    return float(value)
+    return value
 
 
 def _name(data: Mapping[str, Any], key: str, what: str, *, nullable: bool = False) -> str | None:
@@ -164,12 +174,16 @@ def _header_fields(data: Any) -> dict[str, Any]:
     )
     if data.get("format") != FORMAT_NAME:
         raise _fail(
-            f"not a stroke file: expected format {FORMAT_NAME!r}, got {data.get('format')!r}",
+            f"not a stroke file: expected format {FORMAT_NAME!r}, got {_shown(data.get('format'))}",
             "format",
         )
     version = data.get("version")
-    if type(version) is not int or version != FORMAT_VERSION:
-        raise _fail(f"unsupported version {version!r}; this reader reads version 1", "version")
+    if type(version) is not int:
+        raise _fail(
+            f"expected an integer (the format version, 1), got {_shown(version)}", "version"
+        )
+    if version != FORMAT_VERSION:
+        raise _fail(f"unsupported version {version}; this reader reads version 1", "version")
     pigments = data.get("pigments", [])
     if not isinstance(pigments, list | tuple):
         raise _fail("expected a list of pigment names", "pigments")
@@ -178,7 +192,7 @@ def _header_fields(data: Any) -> dict[str, Any]:
         raise _fail(f"pigment names must be unique, got {list(names)}", "pigments")
     seed = data.get("seed", 0)
     if type(seed) is not int or not 0 <= seed < 2**64:
-        raise _fail(f"expected an integer in [0, 2^64), got {seed!r}", "seed")
+        raise _fail(f"expected an integer in [0, 2^64), got {_shown(seed)}", "seed")
     canvas = data.get("canvas")
     if isinstance(canvas, CanvasSpec):
         canvas = canvas.to_dict()
@@ -199,7 +213,7 @@ def _device(device: Any) -> dict[str, Any] | None:
         raise _fail("expected a JSON object describing the device, or null", "device")
     kind = device.get("kind", "tablet")
     if kind not in DEVICE_KINDS:
-        raise _fail(f"expected one of {', '.join(DEVICE_KINDS)}, got {kind!r}", "device.kind")
+        raise _fail(f"expected one of {', '.join(DEVICE_KINDS)}, got {_shown(kind)}", "device.kind")
     try:
         json.dumps(device, allow_nan=False)
     except (TypeError, ValueError) as exc:
@@ -281,7 +295,7 @@ def sample_from_dict(data: Mapping[str, Any]) -> StylusSample:
     for vector in ("position_m", "tilt_rad"):
         value = fields[vector]
         if not isinstance(value, list) or any(isinstance(x, bool | str) for x in value):
-            raise _fail(f"expected a list of numbers, got {value!r}", names[vector])
+            raise _fail(f"expected a list of numbers, got {_shown(value)}", names[vector])
     try:
         return StylusSample(**fields)
     except InputError as exc:
@@ -291,8 +305,10 @@ def sample_from_dict(data: Mapping[str, Any]) -> StylusSample:
 def event_from_dict(data: Mapping[str, Any], pigments: tuple[str, ...]) -> StrokeEvent:
     """An event from its line's object; ``pigments`` are the header's (the ones it may load)."""
     kind = data.get("event")
-    if kind not in EVENT_TYPES:
-        raise _fail(f"unknown event {kind!r}; expected one of {', '.join(EVENT_TYPES)}", "event")
+    if not isinstance(kind, str) or kind not in EVENT_TYPES:
+        raise _fail(
+            f"unknown event {_shown(kind)}; expected one of {', '.join(EVENT_TYPES)}", "event"
+        )
     _check_keys(data, _EVENT_FIELDS[kind])
     t = _time(data)
     if kind == "load_pigment":
