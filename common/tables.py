@@ -55,7 +55,10 @@ class Table:
         value = self.raw(name, default)
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.error(name, f"expected a number{hint}, got {value!r}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond floating point's range
+            raise self.error(name, f"expected a finite number{hint}, got a huge integer") from None
         too_low = minimum is not None and (value < minimum or (exclusive and value == minimum))
         too_high = maximum is not None and value > maximum
         if not math.isfinite(value):
@@ -65,12 +68,17 @@ class Table:
             raise self.error(name, f"expected a number {wanted}{hint}, got {value!r}")
         return value
 
-    def integer(self, name: str, default: Any = _MISSING, *, minimum: int = 0) -> int:
+    def integer(
+        self, name: str, default: Any = _MISSING, *, minimum: int = 0, maximum: int | None = None
+    ) -> int:
+        """An integer in ``[minimum, maximum]`` (no upper bound when ``maximum`` is None)."""
         value = self.raw(name, default)
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(name, f"expected an integer, got {value!r}")
         if value < minimum:
             raise self.error(name, f"expected an integer >= {minimum}, got {value}")
+        if maximum is not None and value > maximum:
+            raise self.error(name, f"expected an integer <= {maximum}, got {value}")
         return int(value)
 
     def string(
@@ -93,7 +101,10 @@ class Table:
             or any(isinstance(v, bool) or not isinstance(v, int | float) for v in value)
         ):
             raise self.error(name, f"expected a list of {length} numbers, got {value!r}")
-        out = tuple(float(v) for v in value)
+        try:
+            out = tuple(float(v) for v in value)
+        except OverflowError:  # an integer beyond floating point's range
+            raise self.error(name, "expected finite numbers, got a huge integer") from None
         if not all(math.isfinite(v) for v in out):
             raise self.error(name, f"expected finite numbers, got {value!r}")
         if positive and any(v <= 0 for v in out):

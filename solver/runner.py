@@ -92,19 +92,39 @@ def _lines(sim: Simulation, scene: Scene) -> dict[str, Any]:
     for line in scene.lines:
         f = np.linspace(0.0, 1.0, line.points)[:, None]
         pts = (1 - f) * np.asarray(line.start_m) + f * np.asarray(line.end_m)
-        out[line.name] = {"points": pts.tolist(), "velocity": sim.velocity_at(pts).tolist()}
+        velocity = sim.velocity_at(pts)
+        out[line.name] = {"points": pts.tolist(), "velocity": _finite_or_none(velocity)}
+        if not np.all(np.isfinite(velocity)):
+            out[line.name]["note"] = NO_FLUID_NOTE
     return out
 
 
+#: Why a sampled value is null in the results: no fluid cell to sample (inside a probe).
+NO_FLUID_NOTE = "null: no fluid cell is near the point, it lies inside a probe"
+
+
+def _finite_or_none(values: Any) -> Any:
+    """``values`` as nested lists of floats, each non-finite entry None (JSON null)."""
+    if np.ndim(values) == 0:
+        value = float(values)
+        return value if np.isfinite(value) else None
+    return [_finite_or_none(v) for v in values]
+
+
 def _points(sim: Simulation, scene: Scene) -> dict[str, Any]:
+    """Pressure and velocity at each output point; a value with no fluid cell near the point
+    (inside a probe) is None, with a ``note`` saying why, so the results stay valid JSON."""
     out = {}
     for point in scene.points:
         pts = np.asarray([point.at_m])
+        pressure, velocity = sim.pressure_at(pts)[0], sim.velocity_at(pts)[0]
         out[point.name] = {
             "at": list(point.at_m),
-            "pressure": float(sim.pressure_at(pts)[0]),
-            "velocity": sim.velocity_at(pts)[0].tolist(),
+            "pressure": _finite_or_none(pressure),
+            "velocity": _finite_or_none(velocity),
         }
+        if not (np.isfinite(pressure) and np.all(np.isfinite(velocity))):
+            out[point.name]["note"] = NO_FLUID_NOTE
     return out
 
 

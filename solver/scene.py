@@ -6,6 +6,8 @@ Every problem is reported as an :class:`~common.errors.InputError` naming the fi
 
 from __future__ import annotations
 
+import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,10 +23,14 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
+from solver.solver_settings import BOUNDARY_METHODS, PRESSURE_SCHEMES
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000
 MAX_STEPS = 1_000_000_000
+#: Most points an output line may sample, and most iterations a solve may be allowed.
+MAX_LINE_POINTS = 100_000
+MAX_ITERATIONS = 1_000_000
 CELL_SIZE_RANGE_M = (1e-9, 1e9)  # beyond it h^2 and h^3 leave floating point's safe range
 
 
@@ -88,15 +94,20 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file."""
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise InputError(f"cannot read scene file: {exc.strerror}", source) from None
-    except UnicodeDecodeError:
-        raise InputError("scene file is not UTF-8 text", source) from None
+    try:
+        text = raw.decode("utf-8-sig")  # a byte order mark (Windows editors write one) is skipped
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise InputError("scene file is not UTF-8 text", source, line=line) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"not valid TOML: {exc}", source) from None
+        at = re.search(r"at line (\d+)", str(exc))
+        line = int(at.group(1)) if at else text.count("\n") + 1  # "at end of document"
+        raise InputError(f"not valid TOML: {exc}", source, line=line) from None
     return parse_scene(data, source)
 
 
@@ -143,10 +154,8 @@ def _grid(t: Table) -> Grid:
         raise t.error("cells", f"expected {dim} integers >= 1 (one per axis), got {cells!r}")
     if any(c < 3 for c in cells):
         raise t.error("cells", f"expected at least 3 cells per axis, got {cells}")
-    if int(np.prod(cells)) > MAX_CELLS:
-        raise t.error(
-            "cells", f"expected at most {MAX_CELLS} cells in all, got {int(np.prod(cells))}"
-        )
+    if math.prod(cells) > MAX_CELLS:
+        raise t.error("cells", f"expected at most {MAX_CELLS} cells in all, got {math.prod(cells)}")
     hs = [s / c for s, c in zip(size_m, cells, strict=True)]
     if max(hs) - min(hs) > 1e-6 * max(hs):
         sizes = ", ".join(f"{h:.6g}" for h in hs)
@@ -233,8 +242,7 @@ def _path(t: Table, grid: Grid) -> np.ndarray:
         if (
             not isinstance(row, list)
             or len(row) != width
-            or any(isinstance(v, bool) or not isinstance(v, int | float) for v in row)
-            or not np.all(np.isfinite(row))
+            or not all(_finite_number(v) for v in row)
         ):
             raise t.error(f"path[{n}]", f"expected {width} finite numbers [{layout}], got {row!r}")
         out[n] = row
@@ -245,6 +253,16 @@ def _path(t: Table, grid: Grid) -> np.ndarray:
     if np.any(np.diff(out[:, 0]) <= 0):
         raise t.error("path", "keyframe times must increase strictly")
     return out
+
+
+def _finite_number(value: object) -> bool:
+    """A finite int or float (an integer too large for a float is not)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 def _inside(p: np.ndarray | tuple[float, ...], grid: Grid) -> bool:
@@ -265,7 +283,7 @@ def _line(t: Table, grid: Grid) -> LineOutput:
         t.string("name"),
         _point(t, "start", grid),
         _point(t, "end", grid),
-        t.integer("points", 17, minimum=2),
+        t.integer("points", 17, minimum=2, maximum=MAX_LINE_POINTS),
     )
 
 
@@ -278,9 +296,13 @@ def _settings(t: Table) -> SolverSettings:
         viscosity_tolerance=t.number(
             "viscosity_tolerance", 1e-8, minimum=0.0, exclusive=True, maximum=1.0
         ),
-        max_iterations=t.integer("max_iterations", 1000, minimum=1),
+        max_iterations=t.integer("max_iterations", 1000, minimum=1, maximum=MAX_ITERATIONS),
         force_model=t.string("force_model", "stress", choices=list(MODELS)),
         drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),
+        boundary_method=t.string(
+            "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
+        ),
+        pressure_scheme=t.string("pressure_scheme", "auto", choices=list(PRESSURE_SCHEMES)),
     )
     t.finish()
     return s
