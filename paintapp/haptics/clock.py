@@ -94,6 +94,17 @@ class VirtualClock:
     def now_s(self) -> float:
         return self._now_s
 
+    @property
+    def next_index(self) -> int:
+        """The index of the next tick (ticks run or skipped so far)."""
+        return self._next_index
+
+    def skip(self, ticks: int) -> None:
+        """Move the timeline on by ``ticks`` ticks without running them (a replay's long pause)."""
+        if ticks > 0:
+            self._next_index += int(ticks)
+            self._now_s = self._start_s + (self._next_index - 1) * self.period_s
+
     def run(
         self, tick: TickFn, max_ticks: int | None = None, stop: threading.Event | None = None
     ) -> TimingReport:

@@ -87,7 +87,8 @@ class SessionStats:
     """Counts over a session: samples, paint steps, solver steps, dropped non-finite forces,
     the wall time (ms) spent in paint steps, samples in the air and steps of a dry brush (no
     fluid; not counted in ``paint_steps``). ``step_ms`` keeps the wall times of the most recent
-    :data:`STEP_TIMES_KEPT` paint steps (a live session runs for hours)."""
+    :data:`STEP_TIMES_KEPT` paint steps (a live session runs for hours). ``pauses`` counts the
+    records that came after a pause longer than the session's ``max_gap_s``."""
 
     samples: int = 0
     paint_steps: int = 0
@@ -97,6 +98,7 @@ class SessionStats:
     step_ms: deque[float] = field(default_factory=lambda: deque(maxlen=STEP_TIMES_KEPT))
     air_samples: int = 0
     dry_steps: int = 0
+    pauses: int = 0
 
 
 def wet_height_m(canvas: Canvas, x_m: float, y_m: float) -> float:
@@ -133,6 +135,9 @@ class PaintingSession:
         brush_dir: where named presets are found (default: the bundled presets).
         device: the force-feedback device's capabilities; no force work when it outputs no
             force, no torque when it outputs none (None: force and torque are both read).
+        max_gap_s: a record more than this after the one before (s) follows a pause: the pen
+            counts as lifted through it, and a sample after it only places the brush, so no paint
+            step spans the pause (its cost would grow with its length). None: no limit.
     """
 
     def __init__(
@@ -145,8 +150,10 @@ class PaintingSession:
         forces: ForceChannel | None = None,
         brush_dir: str | Path | None = None,
         device: DeviceInfo | None = None,
+        max_gap_s: float | None = None,
     ) -> None:
         self.canvas = canvas
+        self.max_gap_s = max_gap_s
         self.scene = scene or load_paint_scene()
         self.forces = forces if forces is not None else ForceChannel()
         self.brush_dir = Path(brush_dir) if brush_dir else asset_path("brushes")
@@ -190,7 +197,8 @@ class PaintingSession:
         """Process one stroke-file record: a sample (returns its step) or an event (None)."""
         if isinstance(record, StylusSample):
             return self.sample(record)
-        self.advance_time(record.t_s)
+        if self._paused(self.advance_time(record.t_s)):
+            self.forces.publish_force(record.t_s, np.zeros(3), np.zeros(3))
         if isinstance(record, LoadPigment):
             self.load_pigment(record.pigment, record.volume_m3)
         elif isinstance(record, SwitchBrush):
@@ -247,6 +255,8 @@ class PaintingSession:
             self.canvas, float(sample.position_m[0]), float(sample.position_m[1])
         )
         pose = self.tracker.update(sample, surface)
+        if self._paused(dt):  # the sample after a long pause only places the brush
+            return self._publish(pose, None)
         if not pose.in_contact:
             self._lift()
             self.stats.air_samples += 1
@@ -278,6 +288,14 @@ class PaintingSession:
             < 0.25 * self.model.window.cells[0] * self.model.cell_size_m
         )
         return previous if near else pose
+
+    def _paused(self, dt: float) -> bool:
+        """Whether ``dt`` is a pause longer than ``max_gap_s``; if so the pen is lifted."""
+        if self.max_gap_s is None or dt <= self.max_gap_s:
+            return False
+        self._lift()
+        self.stats.pauses += 1
+        return True
 
     def _lift(self) -> None:
         if self.in_contact:

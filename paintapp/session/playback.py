@@ -16,6 +16,16 @@ The device the replay plays on is a simulated 6-DOF stylus by default; ``device`
 (:data:`~paintapp.session.replay_devices.REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
 then models no more than that device reads. ``fidelity`` replays with the fluid settings of a
 preset (:mod:`paintapp.paint.fidelity`) applied on top of the scene.
+
+Long pauses cost bounded work: where a record comes more than :data:`MAX_GAP_S` after the one
+before it (``StrokeFile.gaps``, e.g. a clock that jumped to t = 1e6 s), the pen counts as lifted
+through the pause (the sample after it only places the brush; the canvas still dries for the whole
+pause) and the servo loop runs the first :data:`MAX_GAP_S` of it, then skips to the next record,
+so the force trace has no rows for the rest of the pause (``ReplayResult.skipped_ticks``).
+
+The brush presets a file names (header and ``brush`` events) are checked before any work
+(:func:`check_stroke_names`, which also checks the header's pigments against a library for the
+commands that render), each error naming the file and the line.
 """
 
 from __future__ import annotations
@@ -23,13 +33,14 @@ from __future__ import annotations
 import contextlib
 import math
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from brushes import StylusSample
+from brushes.presets import list_presets
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
@@ -39,9 +50,11 @@ from paintapp.haptics.devices.stroke_player import ReplayDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
 from paintapp.paint.fidelity import apply_fidelity
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
+from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 from paintapp.session.replay_devices import replay_device
-from paintapp.strokes.files import StrokeFile, StrokeHeader
+from paintapp.strokes.files import MAX_GAP_S, StrokeFile, StrokeHeader
+from paintapp.strokes.records import SwitchBrush
 
 #: Columns of a force trace (and of the forces CSV).
 FORCE_COLUMNS = (
@@ -80,6 +93,9 @@ class ServoForcePath:
         self.device = ReplayDevice(samples, self.clock.now_s, source=source, info=info)
         self.servo = ServoLoop(self.device, channel, self.config)
         self.servo.open()
+        #: Most ticks run through one pause; the rest of it is skipped.
+        self.max_gap_ticks = max(1, round(MAX_GAP_S / self.config.tick_s))
+        self.skipped_ticks = 0
 
     @property
     def ticks(self) -> int:
@@ -87,7 +103,8 @@ class ServoForcePath:
         return len(self.servo.log)
 
     def run_until(self, t_s: float | None) -> None:
-        """Run every tick before ``t_s`` (None: to the end of the stroke's playback)."""
+        """Run every tick before ``t_s`` (None: to the end of the stroke's playback); of a pause
+        longer than :data:`MAX_GAP_S`, only the first :data:`MAX_GAP_S` is run, the rest skipped."""
         if self.servo.finished or self.servo.device_fault is not None:
             return
         tick = self.config.tick_s
@@ -95,8 +112,14 @@ class ServoForcePath:
             target = math.ceil(self.device.duration_s / tick) + 1
         else:
             target = math.ceil((t_s - self.t0_s) / tick - 1e-9)
-        if target > self.ticks:
-            self.servo.run(self.clock, max_ticks=target - self.ticks)
+        pending = target - self.clock.next_index
+        if pending <= 0:
+            return
+        self.servo.run(self.clock, max_ticks=min(pending, self.max_gap_ticks))
+        left = target - self.clock.next_index
+        if left > 0 and not (self.servo.finished or self.servo.device_fault is not None):
+            self.clock.skip(left)
+            self.skipped_ticks += left
 
     def close(self) -> ServoReport:
         """Close the loop (zero force to the device) and return its report."""
@@ -119,6 +142,7 @@ class ReplayResult:
     forces: np.ndarray
     servo: ServoReport | None
     wall_s: float
+    skipped_ticks: int = 0
 
 
 @contextlib.contextmanager
@@ -130,6 +154,41 @@ def _from_file(strokes: StrokeFile, line: int | None = None) -> Iterator[None]:
         if exc.source:
             raise
         raise InputError(exc.message, strokes.source, exc.key, exc.line or line) from None
+
+
+def check_stroke_names(
+    strokes: StrokeFile,
+    brush_dir: str | Path | None = None,
+    pigments: Collection[str] | None = None,
+) -> None:
+    """Raise :class:`InputError` (file, line, field) for a brush preset the stroke file names
+    that does not exist in ``brush_dir`` (default: the bundled presets): the header's ``brush``
+    (line 1) and each ``brush`` event's ``preset``; with ``pigments`` (the names a pigment library
+    knows), also a header pigment not among them (line 1, ``pigments``). Run before any work, so
+    a typo does not cost a replay."""
+    presets = list_presets(brush_dir or asset_path("brushes"))
+    header = strokes.header
+
+    def unknown_brush(name: str, key: str, line: int | None) -> InputError:
+        known = ", ".join(presets) or "none"
+        return InputError(
+            f"unknown brush preset {name!r}; known presets: {known}", strokes.source, key, line
+        )
+
+    if header.brush not in presets:
+        raise unknown_brush(header.brush, "brush", 1)
+    for i, record in enumerate(strokes.records):
+        if isinstance(record, SwitchBrush) and record.preset not in presets:
+            raise unknown_brush(record.preset, "preset", strokes.line_of(i))
+    unknown = [name for name in header.pigments if pigments is not None and name not in pigments]
+    if unknown:
+        known = ", ".join(sorted(pigments or ())) or "none"
+        raise InputError(
+            f"unknown pigment {unknown[0]!r}; known pigments: {known}",
+            strokes.source,
+            "pigments",
+            1,
+        )
 
 
 def new_canvas(header: StrokeHeader) -> Canvas:
@@ -163,6 +222,7 @@ def replay(
     """
     start = time.perf_counter()
     header = strokes.header
+    check_stroke_names(strokes, brush_dir)
     info = replay_device(device) if isinstance(device, str) else device
     channel = ForceChannel()
     with _from_file(strokes, line=1):
@@ -178,12 +238,13 @@ def replay(
             forces=channel,
             brush_dir=brush_dir,
             device=info,
+            max_gap_s=MAX_GAP_S,
         )
     samples = strokes.samples
     path = ServoForcePath(samples, channel, servo_config, strokes.source, info) if samples else None
     records = strokes.records
     for i, record in enumerate(records):
-        with _from_file(strokes):
+        with _from_file(strokes, line=strokes.line_of(i)):
             session.handle(record)
         if path is not None and isinstance(record, StylusSample):
             path.run_until(records[i + 1].t_s if i + 1 < len(records) else None)
@@ -191,4 +252,5 @@ def replay(
             progress(1)
     report = path.close() if path is not None else None
     forces = path.trace() if path is not None else np.zeros((0, len(FORCE_COLUMNS)))
-    return ReplayResult(canvas, session, forces, report, time.perf_counter() - start)
+    skipped = path.skipped_ticks if path is not None else 0
+    return ReplayResult(canvas, session, forces, report, time.perf_counter() - start, skipped)
