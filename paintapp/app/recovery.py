@@ -136,7 +136,7 @@ class Recovery:
                 "document": document,
                 "journal": journal,
             }
-            atomic_write_text(self.note_path, json.dumps(note, indent=1) + "\n")
+            atomic_write_text(self.note_path, json.dumps(note, indent=1, allow_nan=False) + "\n")
             self.saved_version = version
             self.last_error = None
         except (OSError, InputError, ValueError, RuntimeError) as exc:

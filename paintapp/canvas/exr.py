@@ -105,7 +105,7 @@ def write_canvas_exr(
         "size_m": list(canvas.size_m),
         "pigments": list(canvas.pigment_names),
     }
-    spec.attribute(META_KEY, json.dumps(info))
+    spec.attribute(META_KEY, json.dumps(info, allow_nan=False))
     for key, value in (metadata or {}).items():
         spec.attribute(f"paintapp:{key}", str(value))
     with atomic_path(path) as tmp:

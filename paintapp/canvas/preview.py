@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -10,12 +11,19 @@ import OpenImageIO as oiio
 from paintapp.atomic import atomic_path
 from paintapp.pigments.spectra import srgb_encode
 
+#: The exposures a preview accepts, stops (beyond them every pixel is black or white).
+EXPOSURE_RANGE_STOPS = (-20.0, 20.0)
+
 
 def encode_preview(rgba: np.ndarray, exposure_stops: float = 0.0) -> np.ndarray:
     """8-bit sRGB pixels (H, W, 3), top row first, from linear RGB(A) (H, W, 3|4), row 0 = bottom.
 
-    Colours are scaled by ``2 ** exposure_stops``, clipped to [0, 1] and sRGB-encoded.
+    Colours are scaled by ``2 ** exposure_stops``, clipped to [0, 1] and sRGB-encoded;
+    ``exposure_stops`` must be finite and within :data:`EXPOSURE_RANGE_STOPS` (ValueError).
     """
+    lo, hi = EXPOSURE_RANGE_STOPS
+    if not (math.isfinite(exposure_stops) and lo <= exposure_stops <= hi):
+        raise ValueError(f"expected an exposure in [{lo:g}, {hi:g}] stops, got {exposure_stops}")
     linear = np.asarray(rgba, np.float32)[::-1, :, :3] * np.float32(2.0**exposure_stops)
     encoded = srgb_encode(np.nan_to_num(linear, nan=0.0))
     return np.round(encoded * 255.0).astype(np.uint8)

@@ -12,7 +12,6 @@ import argparse
 import json
 import sys
 import time
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from common.errors import InputError
@@ -51,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
 
     from paintapp.atomic import atomic_write_text
     from paintapp.bench.report import format_table, json_ready, plot_pareto
+    from paintapp.output_paths import prepare_outputs
 
     registry = bench_registry()
     settings = registry.quick_settings() if args.quick else registry.full_settings()
@@ -63,8 +63,9 @@ def run(args: argparse.Namespace) -> int:
             )
         settings = [s for s in settings if s.family in args.only]
     for flag, path in (("--json", args.json), ("--plot", args.plot)):
-        if path is not None and (not path.strip() or Path(path).is_dir()):
+        if path is not None and not path.strip():
             raise InputError(f"expected a file name, got {path!r}", key=flag)
+    prepare_outputs([("--json", args.json), ("--plot", args.plot)])
     start = time.perf_counter()
     records = []
     bar = tqdm(settings, unit="setting", file=sys.stderr, disable=None, leave=False)

@@ -15,10 +15,10 @@ import argparse
 import time
 from pathlib import Path
 
-from common.errors import InputError
 from paintapp.commands.replay import add_replay_options, print_explanation, replay_with_progress
 
 DEMO_STROKES = ("strokes", "demo.jsonl")
+OUTPUT_NAMES = ("canvas.exr", "preview.png", "forces.csv", "forces.png")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,15 +46,15 @@ def run(args: argparse.Namespace) -> int:
 
     start = time.perf_counter()
     source = args.strokes or asset_path(*DEMO_STROKES)
-    if args.out.exists() and not args.out.is_dir():
-        raise InputError("expected a folder for the demo's outputs", source=str(args.out))
-    args.out.mkdir(parents=True, exist_ok=True)
     strokes = read_strokes(source)
+    out = args.out
+    files = [("--out", out / name) for name in OUTPUT_NAMES]
     print(f"painting {source} ({len(strokes.records)} records, {strokes.duration_s:.1f} s)")
-    result = replay_with_progress(strokes, args.scene, args.fidelity, args.device)
+    result = replay_with_progress(
+        strokes, args.scene, args.fidelity, args.device, outputs=files, folders=[("--out", out)]
+    )
     if args.explain:
         print_explanation(result, args.fidelity)
-    out = args.out
     write_canvas_outputs(
         result.canvas, out / "canvas.exr", out / "preview.png", lit=not args.flat, half=args.half
     )
@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
         f"{stats.paint_steps} paint steps (median {np.median(stats.step_ms or [0.0]):.0f} ms), "
         f"{len(forces)} servo ticks, peak force {peak:.3g} N"
     )
-    for name in ("canvas.exr", "preview.png", "forces.csv", "forces.png"):
+    for name in OUTPUT_NAMES:
         print(f"wrote {out / name}")
     print(f"done in {time.perf_counter() - start:.1f} s")
     return 0

@@ -9,6 +9,7 @@ channels included, half or float); a ``.png`` output is an 8-bit sRGB preview.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -98,9 +99,26 @@ def _picture(args: argparse.Namespace, canvas: Canvas, library: PigmentLibrary) 
         return unlit_rgba(canvas, library)
 
 
+def _check_options(args: argparse.Namespace) -> None:
+    """Every lighting option is finite and in range, whether or not this export uses it."""
+    from paintapp.canvas.preview import EXPOSURE_RANGE_STOPS
+
+    lo, hi = EXPOSURE_RANGE_STOPS
+    checks = [
+        ("--exposure", args.exposure, lo <= args.exposure <= hi, f"of stops in [{lo:g}, {hi:g}]"),
+        ("--light-angle", args.light_angle, True, "of degrees"),
+        ("--light-elevation", args.light_elevation, 0 < args.light_elevation <= 90, "in (0, 90]"),
+        ("--relief", args.relief, True, "(1: the true paint height)"),
+    ]
+    for flag, value, in_range, wanted in checks:
+        if not (math.isfinite(value) and in_range):
+            raise InputError(f"expected a finite number {wanted}, got {value}", key=flag)
+
+
 def run(args: argparse.Namespace) -> int:
     from paintapp.canvas.exr import read_canvas_exr, write_canvas_exr
     from paintapp.canvas.preview import write_preview_png
+    from paintapp.output_paths import prepare_outputs
     from paintapp.pigments.library import load_pigment_library
 
     outputs = [args.out, *([args.preview] if args.preview else [])]
@@ -109,9 +127,11 @@ def run(args: argparse.Namespace) -> int:
             raise InputError("output must end in .exr or .png", source=str(out))
     if args.preview and args.preview.suffix.lower() != ".png":
         raise InputError("the preview must be a .png", source=str(args.preview))
+    _check_options(args)
     canvas = read_canvas_exr(args.canvas)
     library = load_pigment_library(*args.pigments)
     library.require(canvas.pigment_names, source=str(args.canvas))
+    prepare_outputs([("--out", args.out), ("--preview", args.preview)])
     rgba = _picture(args, canvas, library)
     for out in outputs:
         if out.suffix.lower() == ".exr":

@@ -23,6 +23,7 @@ from paintapp.paint.fidelity import FIDELITIES, FIDELITY_NAMES
 from paintapp.paint.paint_scene import load_paint_scene
 
 if TYPE_CHECKING:
+    from paintapp.output_paths import Outputs
     from paintapp.session.playback import ReplayResult
     from paintapp.strokes.files import StrokeFile
 
@@ -78,16 +79,29 @@ def check_suffix(path: Path | None, suffix: str, what: str) -> None:
         raise InputError(f"the {what} must be a {suffix} file", source=str(path))
 
 
+#: Pauses in a stroke file warned about one by one; the rest are counted.
+GAP_WARNINGS_SHOWN = 3
+
+
 def replay_with_progress(
     strokes: StrokeFile,
     scene_name: str | None,
     fidelity: str | None = None,
     device: str | None = None,
+    *,
+    outputs: Outputs = (),
+    folders: Outputs = (),
 ) -> ReplayResult:
-    """Replay with a progress bar on stderr; warns about a truncated file."""
+    """Replay with a progress bar on stderr. Before any work: the scene, the brush presets and
+    pigments the file names, and the ``outputs`` (files) and ``folders`` the command will write
+    (:func:`~paintapp.output_paths.prepare_outputs`) are checked; a truncated file and long
+    pauses are warned about."""
     from tqdm import tqdm
 
-    from paintapp.session.playback import replay
+    from paintapp.output_paths import prepare_outputs
+    from paintapp.pigments.library import load_pigment_library
+    from paintapp.session.playback import check_stroke_names, replay
+    from paintapp.strokes.files import MAX_GAP_S
 
     if strokes.truncated:
         print(f"warning: {strokes.source}: {strokes.warning}", file=sys.stderr)
@@ -98,6 +112,18 @@ def replay_with_progress(
             scene = load_paint_scene(strokes.header.scene)
         except InputError as exc:
             raise InputError(exc.message, strokes.source, "scene", 1) from None
+    check_stroke_names(strokes, pigments=set(load_pigment_library()))
+    prepare_outputs(outputs, folders)
+    for line, gap in strokes.gaps[:GAP_WARNINGS_SHOWN]:
+        print(
+            f"warning: {strokes.source}, line {line}: {gap:.3g} s after the record before it "
+            f"(a pause longer than {MAX_GAP_S:g} s): replayed with the pen lifted; the force "
+            f"trace keeps its first {MAX_GAP_S:g} s",
+            file=sys.stderr,
+        )
+    if len(strokes.gaps) > GAP_WARNINGS_SHOWN:
+        more = len(strokes.gaps) - GAP_WARNINGS_SHOWN
+        print(f"warning: {strokes.source}: {more} more such pause(s)", file=sys.stderr)
     with tqdm(
         total=len(strokes.records),
         unit="record",
@@ -132,16 +158,19 @@ def run(args: argparse.Namespace) -> int:
     check_suffix(args.preview, ".png", "preview")
     check_suffix(args.forces, ".csv", "forces output")
     strokes = read_strokes(args.strokes)
-    result = replay_with_progress(strokes, args.scene, args.fidelity, args.device)
+    outputs = [("--out", args.out), ("--preview", args.preview), ("--forces", args.forces)]
+    result = replay_with_progress(strokes, args.scene, args.fidelity, args.device, outputs=outputs)
     if args.explain:
         print_explanation(result, args.fidelity)
     write_canvas_outputs(result.canvas, args.out, args.preview, lit=not args.flat, half=args.half)
     if args.forces is not None:
         write_forces_csv(args.forces, result.forces)
     stats = result.session.stats
+    n = result.skipped_ticks
+    skipped = f", {n if n < 10**9 else format(float(n), '.3g')} skipped in pauses" if n else ""
     print(
         f"replayed {len(strokes.records)} records ({stats.paint_steps} paint steps, "
-        f"{len(result.forces)} servo ticks) in {result.wall_s:.1f} s; wrote {args.out}"
+        f"{len(result.forces)} servo ticks{skipped}) in {result.wall_s:.1f} s; wrote {args.out}"
         + "".join(f", {p}" for p in (args.preview, args.forces) if p is not None)
     )
     return 0

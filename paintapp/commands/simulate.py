@@ -24,6 +24,8 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from paintapp.atomic import atomic_write_text
+    from paintapp.output_paths import prepare_outputs
+    from solver.budget import check_memory, slow_step_warning
     from solver.plan import explain
     from solver.runner import NonFiniteError, run_scene
     from solver.scene import load_scene
@@ -34,12 +36,17 @@ def run(args: argparse.Namespace) -> int:
             print("paintapp simulate: error: --steps must be >= 1", file=sys.stderr)
             return 2
         scene.run = type(scene.run)(scene.run.dt_s, args.steps)
+    check_memory(scene)  # before anything is allocated
+    prepare_outputs([("--json", args.json)])
     g = scene.grid
     cells = "x".join(str(c) for c in g.cells[: g.dim])
     print(
         f"scene {scene.name}: {g.dim}D {cells} cells, h = {g.cell_size_m:.4g} m, "
         f"{len(scene.probes)} probe(s), {scene.run.steps} steps of {scene.run.dt_s:g} s"
     )
+    slow = slow_step_warning(scene)
+    if slow:
+        print(slow, file=sys.stderr)
     if args.explain:
         for decision in explain(scene.build(), scene.run.dt_s):
             print(f"  {decision.topic}: {decision.chosen}\n      because {decision.reason}")
@@ -53,7 +60,12 @@ def run(args: argparse.Namespace) -> int:
             return 1
     _summarise(results)
     if args.json:
-        atomic_write_text(args.json, json.dumps(results, indent=1))
+        try:  # strict JSON: the runner writes null (with a note) where it has no finite value
+            text = json.dumps(results, indent=1, allow_nan=False)
+        except ValueError as exc:
+            print(f"paintapp simulate: error: the results are not finite: {exc}", file=sys.stderr)
+            return 1
+        atomic_write_text(args.json, text)
         print(f"wrote {args.json}")
     return 0
 
@@ -82,6 +94,9 @@ def _summarise(results: dict) -> None:
                 f"torque {np.array2string(np.asarray(tq), precision=5)}"
             )
     for name, rec in results["points"].items():
+        if "note" in rec:  # no fluid near the point: values are null in the JSON
+            print(f"point {name}: {rec['note']}")
+            continue
         print(
             f"point {name}: p = {rec['pressure']:.5g} Pa, u = "
             f"{np.array2string(np.asarray(rec['velocity']), precision=5)} m/s"

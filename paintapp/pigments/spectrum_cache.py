@@ -53,4 +53,6 @@ def store_coefficients(srgb: tuple[float, float, float], coefficients: list[floa
             data = {}
         data[_key(srgb)] = [float(c) for c in coefficients]
         with atomic_path(path) as tmp:
-            tmp.write_text(json.dumps(data, indent=0, sort_keys=True), encoding="utf-8")
+            tmp.write_text(
+                json.dumps(data, indent=0, sort_keys=True, allow_nan=False), encoding="utf-8"
+            )
