@@ -85,6 +85,8 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     widget = win.canvas_widget
     send = tablet_sender(widget)
     frames0, steps0 = widget.frame_count, win.worker.session.stats.paint_steps
+    worker_clock = time.pthread_getcpuclockid(win.worker.ident)
+    cpu0 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
     start = time.perf_counter()
     first = True
     while (t := time.perf_counter() - start) < seconds:
@@ -98,10 +100,17 @@ def paint(app, win, seconds: float) -> dict[str, float]:
         app.processEvents()
         time.sleep(0.004)
     elapsed = time.perf_counter() - start
+    cpu1 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
     return {
         "seconds": elapsed,
         "frame_hz": (widget.frame_count - frames0) / elapsed,
         "sim_hz": (win.worker.session.stats.paint_steps - steps0) / elapsed,
+        # CPU time per wall second: the simulation worker thread, the GUI thread, the whole app
+        # process (servo thread and llvmpipe's threads included). A worker far below 1 while
+        # the app as a whole is not CPU-bound would point at the interpreter lock.
+        "worker_cpu": (cpu1[0] - cpu0[0]) / elapsed,
+        "gui_cpu": (cpu1[1] - cpu0[1]) / elapsed,
+        "app_cpu": (cpu1[2] - cpu0[2]) / elapsed,
     }
 
 
@@ -183,6 +192,9 @@ def run(args: argparse.Namespace) -> None:
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
     print(f"frame rate      {rates['frame_hz']:7.1f} Hz")
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
+    print(f"CPU per second  worker {rates['worker_cpu']:.2f}, GUI {rates['gui_cpu']:.2f}, "
+          f"app process {rates['app_cpu']:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
+    figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
     figures |= {"seconds": rates["seconds"], "frame rate": rates["frame_hz"]}
     figures["simulation rate"] = rates["sim_hz"]
     if win.link is not None:

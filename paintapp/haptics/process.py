@@ -86,6 +86,9 @@ class ProcessOptions:
         exit_fade_s: the whole output fades to zero over this time before the child exits.
         duration_s: stop by itself after this long (None: until told or orphaned).
         start_m: where the simulated hand starts (canvas frame, m).
+        spin_s: how long before each deadline the clock stops sleeping and spins. A real-time
+            task wakes within tens of microseconds (no timer slack), so it spins less than a
+            thread must, and leaves that CPU time to the simulation.
     """
 
     device: str = "sim"
@@ -96,6 +99,7 @@ class ProcessOptions:
     exit_fade_s: float = 0.25
     duration_s: float | None = None
     start_m: tuple[float, float, float] = (0.0, 0.0, 0.005)
+    spin_s: float = 2e-4
 
 
 def build_device(text: str, time_source: Any, target: SharedTarget | None) -> HapticDevice:
@@ -255,7 +259,7 @@ def child_main(block_name: str, options: ProcessOptions, commands: Any, events: 
     block.pid = os.getpid()
     parent_pid = os.getppid()
     config = options.config
-    clock = RealTimeClock(config.tick_s)
+    clock = RealTimeClock(config.tick_s, spin_s=options.spin_s)
     try:
         target = SharedTarget(block.target, options.start_m)
         raw = build_device(options.device, clock.now_s, target)
