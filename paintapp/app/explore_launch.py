@@ -4,6 +4,7 @@ loop (no canvas contact: the device hovers), the window."""
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -27,6 +28,7 @@ def launch_explorer(
 ) -> int:
     """Open the window on the data ``args`` name; returns the exit status."""
     from paintapp.app.haptic_link import HapticLink, parse_device
+    from paintapp.haptics.device import DeviceNotFoundError
 
     spec = parse_device(args.device)
     if not display_available():
@@ -37,8 +39,17 @@ def launch_explorer(
 
     link = None
     if spec.kind != "none":
-        link = HapticLink(spec, force_scale=args.force_scale)
-        link.start()
+        link = HapticLink(spec, force_scale=args.force_scale, mode="process")
+        try:
+            link.start()
+        except DeviceNotFoundError:
+            raise
+        except (RuntimeError, OSError) as exc:
+            print(f"servo process unavailable ({exc}); running the servo loop in a thread",
+                  file=sys.stderr)  # fmt: skip
+            link = HapticLink(spec, force_scale=args.force_scale, mode="thread")
+            link.start()
+    window = None
     try:
         if link is None:
             window = ExploreWindow(exploration)
@@ -60,6 +71,10 @@ def launch_explorer(
         window.show()
         app.exec()
     finally:
+        if window is not None:
+            window.timer.stop()
+            window.deleteLater()
+            app.processEvents()
         if link is not None:
             link.stop()
     return 0

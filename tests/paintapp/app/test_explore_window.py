@@ -46,3 +46,34 @@ def test_the_probe_follows_the_mouse_and_its_force_reaches_the_channel(qapp, pum
         assert (tmp_path / "explore.png").stat().st_size > 1000
     finally:
         window.close()
+
+
+def test_a_simulated_device_drives_the_probe_and_receives_its_force(qapp, pump):
+    from paintapp.app.explore_window import ExploreWindow
+    from paintapp.app.haptic_link import HapticLink, parse_device
+
+    flow = load_flow([asset_path("flows", "schaefer_turek_2d2.npz")])
+    exploration = Exploration(flow, ProbeSpec("circle", (0.05,), depth_m=0.05))
+    link = HapticLink(parse_device("sim"), force_scale=2.0, mode="thread")
+    link.start()
+    try:
+
+        def position():
+            _, state = link.states.latest()
+            return None if state is None else np.asarray(state.position_m)
+
+        def aim(device_m):
+            link.target.set(float(device_m[0]), float(device_m[1]), 0.0, down=False)
+
+        window = ExploreWindow(exploration, link.forces.publish_force, position, aim)
+        window.show()
+        at = np.array([0.7, 0.25])
+        p = window.to_screen(at)
+        move(window, p.x(), p.y())
+        assert pump(5.0, until=lambda: np.linalg.norm(window.probe_m - at) < 0.01)
+        _, sample = link.forces.latest()
+        assert sample is not None and np.all(np.isfinite(sample.force))
+        window.close()
+    finally:
+        report = link.stop()
+    assert link.fault is None and report is not None
