@@ -127,17 +127,24 @@ class ControlsPanel(QWidget):
         grid = QGridLayout(box)
         self.swatches: dict[str, SwatchButton] = {}
         for i, name in enumerate(pigments):
-            button = SwatchButton(str((i + 1) % 10) if i < 10 else "")
-            button.setToolTip(library[name].label or name)
+            label = library[name].label or name.replace("_", " ")
+            key = f"{(i + 1) % 10}  " if i < 10 else ""
+            button = SwatchButton(f"{key}{label}")
+            shortcut = f" (key {(i + 1) % 10})" if i < 10 else ""
+            button.setToolTip(f"{label}{shortcut}: click to load the brush, Shift+click to put it "
+                              "on the mixing slab")  # fmt: skip
             colour = swatch_colour(library, name)
             text = text_colour(colour)
-            button.setStyleSheet(f"background:{colour}; color:{text}; min-height:26px")
+            button.setStyleSheet(
+                f"background:{colour}; color:{text}; min-height:26px; text-align:left; "
+                "padding-left:6px"
+            )
             button.clicked.connect(lambda _=False, n=name: self._swatch_clicked(n))
-            grid.addWidget(button, i // 5, i % 5)
+            grid.addWidget(button, i // 2, i % 2)
             self.swatches[name] = button
         clean = QPushButton("Clean brush (C)")
         clean.clicked.connect(lambda: self.handlers["clean"]())
-        grid.addWidget(clean, (len(pigments) + 4) // 5, 0, 1, 5)
+        grid.addWidget(clean, (len(pigments) + 1) // 2, 0, 1, 2)
         return box
 
     def _slab_box(self, library: PigmentLibrary) -> QGroupBox:

@@ -121,6 +121,12 @@ def _region(image, x: int, y: int, w: int, h: int) -> np.ndarray:
     )
 
 
+def test_palette_swatches_name_their_pigment(window):
+    for name, button in window.controls.swatches.items():
+        label = window.library[name].label or name.replace("_", " ")
+        assert label in button.text() and label in button.toolTip()
+
+
 def test_help_overlay_and_shortcut_actions(window, pump):
     win = window
     assert not win.help.isVisible()
