@@ -219,7 +219,7 @@ def _probe(t: Table, grid: Grid) -> Probe:
         omega = t.number("angular_velocity", 0.0)
     else:
         q = np.array(t.vector("orientation", 4, (1.0, 0.0, 0.0, 0.0)))
-        if np.linalg.norm(q) == 0:
+        if not _normable(q):
             raise t.error("orientation", "expected a non-zero quaternion [w, x, y, z]")
         orientation = q / np.linalg.norm(q)
         omega = np.array(t.vector("angular_velocity", 3, (0.0, 0.0, 0.0)))
@@ -248,11 +248,18 @@ def _path(t: Table, grid: Grid) -> np.ndarray:
         out[n] = row
         if not _inside(out[n, 1 : 1 + dim], grid):
             raise t.error(f"path[{n}]", "keyframe position lies outside the domain")
-        if dim == 3 and np.linalg.norm(out[n, 4:]) == 0:
+        if dim == 3 and not _normable(out[n, 4:]):
             raise t.error(f"path[{n}]", "expected a non-zero quaternion")
     if np.any(np.diff(out[:, 0]) <= 0):
         raise t.error("path", "keyframe times must increase strictly")
     return out
+
+
+def _normable(q: np.ndarray) -> bool:
+    """Whether ``q`` has a finite, non-zero length (huge components overflow it)."""
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
+    return math.isfinite(norm) and norm > 0.0
 
 
 def _finite_number(value: object) -> bool:

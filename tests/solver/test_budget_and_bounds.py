@@ -100,3 +100,15 @@ def test_a_probe_over_the_whole_domain_gives_finite_json():
     text = json.dumps(results, allow_nan=False)  # raises on NaN or infinity
     point = json.loads(text)["points"]["p"]
     assert point["pressure"] is None and "inside a probe" in point["note"]
+
+
+def test_a_quaternion_too_long_for_floating_point_is_an_input_error():
+    probe = {"name": "s", "shape": "sphere", "center": [0.5, 0.5, 0.5], "radius": 0.1}
+    probe["orientation"] = [1e308, 1e308, 1e308, 1e308]  # its length overflows (found by fuzzing)
+    with pytest.raises(InputError, match="non-zero quaternion") as err:
+        parse_scene(scene_dict((8, 8, 8), probes=[probe]))
+    assert err.value.key == "probes[0].orientation"
+    probe["orientation"] = [1.0, 0.0, 0.0, 0.0]
+    probe["path"] = [[0.0, 0.5, 0.5, 0.5, 1e308, 1e308, 1e308, 1e308]]
+    with pytest.raises(InputError, match=r"path\[0\]"):
+        parse_scene(scene_dict((8, 8, 8), probes=[probe]))

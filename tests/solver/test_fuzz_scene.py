@@ -6,7 +6,8 @@ path, solver settings, outputs) and applies a few mutations: a value replaced by
 or added, a section replaced; the result is written as TOML, sometimes with a byte order mark, cut
 short or with junk bytes. :func:`load_scene` must return a scene whose every number is finite and
 whose every size is bounded, or raise an :class:`InputError` naming the file; never any other
-exception. About 400 examples, a few seconds.
+exception. About 400 examples, a few seconds
+(``FUZZ_EXAMPLES=N`` runs N).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import os
 import re
 import tempfile
 from pathlib import Path
@@ -219,7 +221,7 @@ def _check_scene(scene) -> None:
 
 
 @settings(
-    max_examples=400,
+    max_examples=int(os.environ.get("FUZZ_EXAMPLES", "400")),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )

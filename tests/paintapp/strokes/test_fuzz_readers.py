@@ -5,7 +5,8 @@ few mutations: a field set to a hostile JSON value (huge or tiny numbers, NaN an
 wrong types, nesting), a field dropped or added, a line replaced by raw text (deep nesting, cut
 JSON, junk), a byte order mark, CRLF endings, or the file cut at a random byte. The reader must
 either return a file whose every value is finite and in range, or raise an :class:`InputError`
-naming the file and the line; never any other exception. About 400 examples, a few seconds.
+naming the file and the line; never any other exception. About 400 examples, a few seconds
+(``FUZZ_EXAMPLES=N`` runs N).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import os
 import tempfile
 from pathlib import Path
 
@@ -167,7 +169,7 @@ def _check_loaded(f) -> None:
 
 
 @settings(
-    max_examples=400,
+    max_examples=int(os.environ.get("FUZZ_EXAMPLES", "400")),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
