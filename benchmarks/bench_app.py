@@ -114,8 +114,9 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     }
 
 
-def headless_rate(seconds: float) -> float:
-    """Paint steps per second of the window's session painting the same circle, no window."""
+def headless_rate(seconds: float) -> tuple[float, float]:
+    """Paint steps per second of the window's session painting the same circle, no window, and
+    the CPU time it got per wall second."""
     import numpy as np
 
     from brushes import StylusSample
@@ -142,12 +143,14 @@ def headless_rate(seconds: float) -> float:
 
     session.sample(at(0.0))  # warm-up (kernels are compiled by the window run already)
     steps0, sim_t = session.stats.paint_steps, 0.0
+    cpu0 = time.thread_time()
     start = last = time.perf_counter()
     while (now := time.perf_counter()) - start < seconds:
         sim_t += min(now - last, MAX_STEP_S)
         last = now
         session.sample(at(sim_t))
-    return (session.stats.paint_steps - steps0) / (time.perf_counter() - start)
+    elapsed = time.perf_counter() - start
+    return (session.stats.paint_steps - steps0) / elapsed, (time.thread_time() - cpu0) / elapsed
 
 
 def main() -> None:
@@ -224,10 +227,12 @@ def run(args: argparse.Namespace) -> None:
     figures["load_after"] = os.getloadavg()[0]
     headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
     if headless_s > 0:
-        headless = headless_rate(headless_s)
+        headless, headless_cpu = headless_rate(headless_s)
         share = rates["sim_hz"] / headless if headless > 0 else 0.0
-        print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %)")
+        print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %), "
+              f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
         figures |= {"headless simulation rate": headless, "window share of headless": share}
+        figures["headless_cpu"] = headless_cpu
     if args.json is not None:
         args.json.write_text(json.dumps(figures, indent=2, default=str) + "\n")
         print(f"wrote {args.json}")
