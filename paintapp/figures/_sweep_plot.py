@@ -23,12 +23,14 @@ class SweepFigureData:
         drag: force along the motion, shape (n,), N/m (negative: it opposes the motion).
         perpendicular: force across the motion (90 degrees counter-clockwise), shape (n,), N/m.
         summary: noise and sign figures of :func:`~paintapp.bench.square_sweep.sweep_summary`.
+        boundary_method: the solver's ``boundary_method`` (``staircase`` or ``cutcell``).
     """
 
     trace: SweepTrace
     drag: np.ndarray
     perpendicular: np.ndarray
     summary: dict[str, float]
+    boundary_method: str = "staircase"
 
     @property
     def cells(self) -> int:
@@ -45,11 +47,14 @@ def check_cells(cells: int) -> int:
     return cells
 
 
-def sweep_data(cells: int = 64, force_model: str = "stress") -> SweepFigureData:
-    """Run the paper's sweep at ``cells`` per side with ``force_model`` and prepare it."""
-    trace = run_sweep(sweep_scene(check_cells(cells), solver={"force_model": force_model}))
+def sweep_data(
+    cells: int = 64, force_model: str = "stress", boundary_method: str = "staircase"
+) -> SweepFigureData:
+    """Run the paper's sweep at ``cells`` per side with ``force_model`` and ``boundary_method``."""
+    solver = {"force_model": force_model, "boundary_method": boundary_method}
+    trace = run_sweep(sweep_scene(check_cells(cells), solver=solver))
     drag, perp = trace.components()
-    return SweepFigureData(trace, drag, perp, sweep_summary(trace))
+    return SweepFigureData(trace, drag, perp, sweep_summary(trace), boundary_method)
 
 
 def save_figure(fig, path: str | Path) -> None:

@@ -82,11 +82,13 @@ def _noise(f: np.ndarray) -> tuple[float, float]:
 
 @pytest.mark.slow
 def test_towed_disk_drag_is_far_smoother_than_the_staircase():
-    """D/h = 7.7: measured drag HF RMS 19 % (staircase) vs 3.5 % (cut cells); jumps 60 % vs 7 %."""
+    """D/h = 7.7: measured drag HF RMS 19.3 % (staircase) vs 3.53 % (cut cells); largest jumps
+    60.3 % vs 6.34 % (ratios 0.18 and 0.105)."""
     stair = _noise(_towed("staircase", 96, 300))
     cut = _noise(_towed("cutcell", 96, 300))
-    assert cut[0] < 0.3 * stair[0] and cut[1] < 0.3 * stair[1]
-    assert cut[0] < 0.06 and cut[1] < 0.12
+    print(f"towed disk 96^2 drag HF RMS / jump: staircase {stair}, cut cells {cut}")
+    assert cut[0] < 0.25 * stair[0] and cut[1] < 0.15 * stair[1]
+    assert cut[0] < 0.045 and cut[1] < 0.08
 
 
 def test_cut_viscous_force_on_a_towed_disk_is_smooth():
@@ -150,5 +152,6 @@ def test_cut_stokes_drag_is_linear_in_viscosity_for_any_dt():
         for _ in range(round(4.0 / dt)):
             sim.step(dt)
         res.append(np.linalg.norm(sim.forces["probe"].force))
-    assert res[1] / res[0] == pytest.approx(2.0, rel=0.01)
-    assert res[2] / res[0] == pytest.approx(2.0, rel=0.015)
+    print(f"Stokes drag ratios: {res[1] / res[0]:.4f} (same nu dt/h^2), {res[2] / res[0]:.4f}")
+    assert res[1] / res[0] == pytest.approx(2.0, rel=0.004)  # measured 1.9950
+    assert res[2] / res[0] == pytest.approx(2.0, rel=0.012)  # measured 1.9842

@@ -37,8 +37,8 @@ def test_drag_and_perpendicular_split_the_force(coarse):
 
 
 def test_noise_falls_as_the_grid_is_refined():
-    runs = resolution.compute([32, 64])  # measured: 1.07 -> 0.66 (0.52 at 128)
-    (_, coarse_noise, _), (_, fine_noise, _) = resolution.noise_table(runs)
+    runs = resolution.compute([32, 64], ["staircase"])  # measured: 1.07 -> 0.66 (0.52 at 128)
+    (_, _, coarse_noise, _), (_, _, fine_noise, _) = resolution.noise_table(runs)
     assert fine_noise < 0.8 * coarse_noise
 
 
@@ -48,7 +48,9 @@ def test_figure_commands_write_pngs(tmp_path, capsys):
     assert main(["figures", "resolution", "--out", str(out5), "--cells", "12", "16"]) == 0
     for out in (out4, out5):
         assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "force noise" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "force noise" in printed
+    assert "staircase" in printed and "cutcell" in printed  # both methods, side by side
 
 
 @pytest.mark.parametrize(
