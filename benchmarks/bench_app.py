@@ -9,8 +9,10 @@ sent to the canvas widget (``none``), or as the simulated hand's target (``sim``
 the 1 kHz servo loop, in its own process unless ``--servo thread``). Prints the display frame
 rate, the paint steps per second, and with a device the servo loop's achieved rate, tick-interval
 jitter and start lateness, and what the OS granted the servo process. Then (unless
-``--headless-seconds 0``) it paints the same circle headless -- the same session, brush and
-scene, no window, no servo loop -- and prints that paint-step rate and the window's share of it.
+``--headless-seconds 0``) it feeds the very samples and events the window's simulation consumed
+(its journal) to a fresh session of the same brush and scene -- no window, no servo loop -- as fast
+as it takes them, from the first paint step on, and prints that paint-step rate and the window's
+share of it.
 ``--json`` writes every figure to a file as well.
 """
 
@@ -114,41 +116,33 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     }
 
 
-def headless_rate(seconds: float) -> tuple[float, float]:
-    """Paint steps per second of the window's session painting the same circle, no window, and
-    the CPU time it got per wall second."""
-    import numpy as np
-
-    from brushes import StylusSample
+def headless_rate(seconds: float, journal: Path) -> tuple[float, float]:
+    """Paint steps per second of a fresh session, no window and no servo loop, fed the very
+    samples and events the window's simulation consumed (its journal), as fast as it can take
+    them, for up to ``seconds``; and the CPU time it got per wall second."""
     from paintapp.app.options import PaintOptions, blank_canvas
     from paintapp.app.settings import PaintSettings, make_preset, make_scene, rebuild_session
-    from paintapp.app.worker import MAX_STEP_S
     from paintapp.haptics.channel import ForceChannel
-    from paintapp.strokes.records import LoadPigment
+    from paintapp.strokes.files import read_strokes
 
+    strokes = read_strokes(journal)
     settings = PaintSettings()
     canvas = blank_canvas(options=PaintOptions())
-    # tablet samples at the window's pressure: the same brush, scene and circle, no device
-    session = rebuild_session(
-        None, canvas, make_preset(settings), make_scene(settings, None), "tablet", ForceChannel()
-    )
-    volume = settings.load_fraction * session.preset.capacity_m3
-    session.handle(LoadPigment(0.0, "ultramarine_blue", volume))
-    w, h = canvas.size_m
-
-    def at(t: float) -> StylusSample:
-        a = 2.0 * math.pi * t / 3.0
-        x, y = 0.5 * w + 0.25 * h * math.cos(a), 0.5 * h + 0.25 * h * math.sin(a)
-        return StylusSample(t, np.array([x, y, 0.0]), 0.8)
-
-    session.sample(at(0.0))  # warm-up (kernels are compiled by the window run already)
-    steps0, sim_t = session.stats.paint_steps, 0.0
+    kind = strokes.header.input_kind
+    preset, scene = make_preset(settings), make_scene(settings, None)
+    session = rebuild_session(None, canvas, preset, scene, kind, ForceChannel())
+    records = iter(strokes.records)
+    for record in records:  # up to the first paint step (the hover before it is not timed)
+        session.handle(record)
+        if session.stats.paint_steps > 0:
+            break
+    steps0 = session.stats.paint_steps
     cpu0 = time.thread_time()
-    start = last = time.perf_counter()
-    while (now := time.perf_counter()) - start < seconds:
-        sim_t += min(now - last, MAX_STEP_S)
-        last = now
-        session.sample(at(sim_t))
+    start = time.perf_counter()
+    for record in records:
+        session.handle(record)
+        if time.perf_counter() - start > seconds:
+            break
     elapsed = time.perf_counter() - start
     return (session.stats.paint_steps - steps0) / elapsed, (time.thread_time() - cpu0) / elapsed
 
@@ -181,7 +175,7 @@ def run(args: argparse.Namespace) -> None:
     tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))
     options = PaintOptions(
         device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
-        servo=args.servo,
+        servo=args.servo, record=tmp / "bench.jsonl",
     )  # fmt: skip
     figures: dict[str, object] = {"device": args.device, "load_before": os.getloadavg()[0]}
     app, win = create_window(options, interactive=False)
@@ -227,7 +221,7 @@ def run(args: argparse.Namespace) -> None:
     figures["load_after"] = os.getloadavg()[0]
     headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
     if headless_s > 0:
-        headless, headless_cpu = headless_rate(headless_s)
+        headless, headless_cpu = headless_rate(headless_s, tmp / "bench.jsonl")
         share = rates["sim_hz"] / headless if headless > 0 else 0.0
         print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %), "
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
