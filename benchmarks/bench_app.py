@@ -155,6 +155,8 @@ def main() -> None:
     parser.add_argument("--headless-seconds", type=float, default=None,
                         help="length of the headless run (default: --seconds; 0 skips it)")  # fmt: skip
     parser.add_argument("--json", type=Path, help="write the figures to this JSON file")
+    parser.add_argument("--switch-interval-ms", type=float, default=None,
+                        help="the interpreter's switch interval in the app (default: as is)")  # fmt: skip
     parser.add_argument("--screenshot", type=Path, help="save the window here at the end")
     args = parser.parse_args()
     xvfb = private_display()
@@ -172,6 +174,8 @@ def run(args: argparse.Namespace) -> None:
     from paintapp.app.launch import create_window
     from paintapp.app.options import PaintOptions
 
+    if args.switch_interval_ms is not None:
+        sys.setswitchinterval(1e-3 * args.switch_interval_ms)
     tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))
     options = PaintOptions(
         device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
