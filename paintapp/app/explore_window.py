@@ -16,7 +16,16 @@ from collections.abc import Callable
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, QTimer
-from PySide6.QtGui import QColor, QImage, QKeyEvent, QMouseEvent, QPainter, QPen, QWheelEvent
+from PySide6.QtGui import (
+    QCloseEvent,
+    QColor,
+    QImage,
+    QKeyEvent,
+    QMouseEvent,
+    QPainter,
+    QPen,
+    QWheelEvent,
+)
 from PySide6.QtWidgets import QWidget
 
 from paintapp.explore.exploration import Exploration, Workspace
@@ -142,6 +151,11 @@ class ExploreWindow(QWidget):
             self.close()
         else:
             super().keyPressEvent(event)
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        """Stop evaluating (and publishing) once the window closes."""
+        self.timer.stop()
+        super().closeEvent(event)
 
     # --- drawing ------------------------------------------------------------------------------
     def slice_rgb(self) -> np.ndarray:

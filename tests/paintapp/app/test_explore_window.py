@@ -46,6 +46,9 @@ def test_the_probe_follows_the_mouse_and_its_force_reaches_the_channel(qapp, pum
         assert (tmp_path / "explore.png").stat().st_size > 1000
     finally:
         window.close()
+        assert not window.timer.isActive()  # a closed window stops evaluating
+        window.deleteLater()
+        pump(0.1)
 
 
 def test_a_simulated_device_drives_the_probe_and_receives_its_force(qapp, pump):
@@ -74,6 +77,8 @@ def test_a_simulated_device_drives_the_probe_and_receives_its_force(qapp, pump):
         _, sample = link.forces.latest()
         assert sample is not None and np.all(np.isfinite(sample.force))
         window.close()
+        window.deleteLater()
+        pump(0.1)
     finally:
         report = link.stop()
     assert link.fault is None and report is not None
