@@ -38,7 +38,7 @@ from paintapp.paint.paint_scene import PaintScene
 from solver.simulation import SolverSettings
 
 #: Longest lateral travel of the tip in one paint step, in cells (longer moves are sub-stepped).
-MAX_TRAVEL_CELLS = 1.0
+MAX_TRAVEL_CELLS = 2.0
 
 
 def brush_width_m(preset: BrushPreset) -> float:
