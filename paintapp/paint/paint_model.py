@@ -8,8 +8,8 @@ canvas, lets the model move it (and trade it with the brush), and writes the cha
 grid itself keeps no paint between steps, only its fluid velocity.
 
 Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels more than
-:data:`MAX_TRAVEL_CELLS` cells, are split into equal sub-steps along the straight line between the
-poses: the brush then touches every column along its path, and with the tent transfer between
+:data:`MAX_TRAVEL_CELLS` cells, are split into equal sub-steps (the travel into at most
+:data:`MAX_TRAVEL_SUBSTEPS`) along the straight line between the poses: the brush then touches every column along its path, and with the tent transfer between
 columns and texels (:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even
 band instead of a comb of separate prints.
 
@@ -39,6 +39,10 @@ from solver.simulation import SolverSettings
 
 #: Longest lateral travel of the tip in one paint step, in cells (longer moves are sub-stepped).
 MAX_TRAVEL_CELLS = 2.0
+#: Most sub-steps a step's travel adds: a live session that fell behind (its samples far apart)
+#: must not slow down further by sub-stepping ever longer moves (the time step's own split,
+#: ``scene.max_step_s``, is not capped).
+MAX_TRAVEL_SUBSTEPS = 2
 
 
 def brush_width_m(preset: BrushPreset) -> float:
@@ -197,10 +201,9 @@ class PaintModel(ABC):
         assert self.pose is not None
         start = self.pose
         travel = float(np.hypot(*(pose.position_m[:2] - start.position_m[:2])))
+        by_travel = math.ceil(travel / (MAX_TRAVEL_CELLS * self.cell_size_m) - 1e-9)
         n = max(
-            1,
-            math.ceil(dt_s / self.scene.max_step_s - 1e-9),
-            math.ceil(travel / (MAX_TRAVEL_CELLS * self.cell_size_m) - 1e-9),
+            1, math.ceil(dt_s / self.scene.max_step_s - 1e-9), min(by_travel, MAX_TRAVEL_SUBSTEPS)
         )
         result = PaintStep()
         for s in range(n):
