@@ -92,17 +92,18 @@ def build_exploration(args: argparse.Namespace) -> Exploration:
 
 
 def run(args: argparse.Namespace) -> int:
-    for flag, value in (("--forces", args.forces), ("--plot", args.plot)):
+    outputs = (("--forces", args.forces), ("--plot", args.plot))
+    for flag, value in outputs:
         if value is not None and args.path is None:
             raise InputError(f"{flag} needs a scripted --path", key=flag)
-        if value is not None and (value.is_dir() or not str(value).strip()):
-            raise InputError(f"expected a file name, got {str(value)!r}", key=flag)
     if args.path is None:
         return _window(args)
     from paintapp.explore.exploration import run_scripted
     from paintapp.explore.probe_paths import read_probe_path
+    from paintapp.output_paths import prepare_outputs
     from paintapp.session.outputs import plot_forces, write_forces_csv
 
+    prepare_outputs(outputs)  # before any work: writable, not a folder, not the same file twice
     exploration = build_exploration(args)
     path = read_probe_path(args.path, exploration.flow.dim)
     result = run_scripted(

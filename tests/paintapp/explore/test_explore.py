@@ -195,3 +195,18 @@ def test_the_bundled_example_loads_and_is_unsteady():
     ts = t0 + flow.period_s + np.arange(-0.05, 0.05, step)
     fy = np.array([probe.force_at(t, np.array([0.6, 0.2]), 0.0).force[1] for t in ts])
     assert np.abs(np.diff(fy)).max() < 0.05 * np.ptp(lifts)
+
+
+def test_explore_outputs_are_checked_before_any_work(tmp_path, capsys):
+    np.savez(tmp_path / "f.npz", p=np.zeros((4, 4)), u=np.zeros((2, 4, 4)), origin=[0, 0],
+             spacing=[1, 1], density=1.0, viscosity=1.0)  # fmt: skip
+    (tmp_path / "p.csv").write_text("t_s,x_m,y_m\n0,1,1\n1,2,2\n", encoding="utf-8")
+    base = ["explore", str(tmp_path / "f.npz"), "--path", str(tmp_path / "p.csv")]
+    assert main([*base, "--forces", str(tmp_path)]) == 2
+    assert "is an existing folder" in capsys.readouterr().err
+    same = str(tmp_path / "out.csv")
+    assert main([*base, "--forces", same, "--plot", same]) == 2
+    assert "its own file" in capsys.readouterr().err
+    assert main(["explore", str(tmp_path / "f.npz"), "--forces", same]) == 2
+    assert "needs a scripted --path" in capsys.readouterr().err
+    assert not (tmp_path / "out.csv").exists()
