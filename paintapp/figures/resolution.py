@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from common.errors import InputError
 
@@ -64,7 +64,9 @@ def plot(runs: Sequence[SweepFigureData], out: str) -> None:
         mine = [r for r in runs if r.boundary_method == method]
         axes = []
         for row in range(3):
-            share = {"sharex": first, "sharey": fig.axes[row] if col else None} if first else {}
+            share: dict[str, Any] = (
+                {"sharex": first, "sharey": fig.axes[row] if col else None} if first else {}
+            )
             axes.append(fig.add_subplot(grid[row, col], **share))
             first = first or axes[0]
         colours = plt.cm.jet(np.linspace(0.05, 0.95, len(mine)))  # coarsest blue, finest red
