@@ -69,11 +69,17 @@ def circle_stroke(
 ) -> Target:
     """A stirring stroke: the tip comes down from ``hover_m`` above the canvas to the circle's
     height over ``approach_s`` (a half-cosine), while going round a horizontal circle of
-    ``radius_m`` about ``center_m`` at constant speed."""
+    ``radius_m`` about ``center_m`` at constant speed. Time counts from the first query, so the
+    approach happens whatever the clock's time base (a servo process's clock does not start at
+    0; a hand already pressed into the canvas at the start would keep the loop from engaging)."""
     c = np.asarray(center_m, dtype=np.float64)
     w = 2.0 * math.pi / period_s
+    start: list[float] = []
 
-    def target(t_s: float) -> tuple[np.ndarray, np.ndarray]:
+    def target(t_abs: float) -> tuple[np.ndarray, np.ndarray]:
+        if not start:
+            start.append(t_abs)
+        t_s = t_abs - start[0]
         s, co = math.sin(w * t_s), math.cos(w * t_s)
         pos = c + radius_m * np.array([co, s, 0.0])
         vel = radius_m * w * np.array([-s, co, 0.0])
