@@ -500,19 +500,25 @@ class Simulation:
         divergence_sum(st.comps[0], st.comps[1], st.comps[2], st.label, g.dim, out)
         return out / g.cell_size_m
 
-    def kinetic_energy(self) -> float:
-        """Kinetic energy of the fluid, J (2D: J per metre of depth), from face samples."""
+    def cell_velocity(self) -> np.ndarray:
+        """Velocity at the cell centres, (dim, nx, ny, nz) m/s: each component the mean of the
+        two faces either side of the cell."""
         g, st = self.grid, self.state
-        total = 0.0
+        out = np.empty((g.dim, *g.cells))
         for a in range(g.dim):
             q = st.comps[a]
-            lo = [slice(None)] * 3
-            hi = [slice(None)] * 3
+            lo: list[slice] = [slice(None)] * 3
+            hi: list[slice] = [slice(None)] * 3
             lo[a] = slice(0, -1)
             hi[a] = slice(1, None)
-            centre = 0.5 * (q[tuple(lo)] + q[tuple(hi)])
-            total += float(np.sum(centre[st.label == FLUID] ** 2))
-        return 0.5 * self.fluid.density_kg_m3 * total * g.cell_volume
+            out[a] = 0.5 * (q[tuple(lo)] + q[tuple(hi)])
+        return out
+
+    def kinetic_energy(self) -> float:
+        """Kinetic energy of the fluid, J (2D: J per metre of depth), from face samples."""
+        fluid = self.state.label == FLUID
+        total = float(np.sum(self.cell_velocity()[:, fluid] ** 2))
+        return 0.5 * self.fluid.density_kg_m3 * total * self.grid.cell_volume
 
     def velocity_at(self, points_m: np.ndarray) -> np.ndarray:
         """Interpolated velocity at world points (n, dim) -> (n, dim)."""

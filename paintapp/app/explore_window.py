@@ -158,15 +158,19 @@ class ExploreWindow(QWidget):
         super().closeEvent(event)
 
     # --- drawing ------------------------------------------------------------------------------
+    def slice_index(self) -> int | None:
+        """The z node of the slice through the probe (3D), or None (2D)."""
+        if self.flow.dim == 2:
+            return None
+        k = round(float(self.probe_m[2] - self.lo[2]) / float(self.flow.spacing_m[2]))
+        return min(max(k, 0), self.flow.nodes[2] - 1)
+
     def slice_rgb(self) -> np.ndarray:
         """(ny, nx, 3) uint8 colour map of the slice (rows top to bottom)."""
         from matplotlib import colormaps
 
         i0, i1, a = frame_pair(self.flow.times_s, self.t_s, self.flow.period_s)
-        k = None
-        if self.flow.dim == 3:
-            k = round(float(self.probe_m[2] - self.lo[2]) / float(self.flow.spacing_m[2]))
-            k = min(max(k, 0), self.flow.nodes[2] - 1)
+        k = self.slice_index()
 
         def field(i: int) -> np.ndarray:
             if self.show_pressure:
@@ -206,9 +210,9 @@ class ExploreWindow(QWidget):
         step = max(1, max(self.flow.nodes[:2]) // 24)
         i0, _, _ = frame_pair(self.flow.times_s, self.t_s, self.flow.period_s)
         u = self.flow.velocity_m_s[i0]
-        if self.flow.dim == 3:
-            k = round(float(self.probe_m[2] - self.lo[2]) / float(self.flow.spacing_m[2]))
-            u = u[:2, :, :, min(max(k, 0), self.flow.nodes[2] - 1)]
+        k = self.slice_index()
+        if k is not None:
+            u = u[:2, :, :, k]
         speed = float(np.nanmax(np.linalg.norm(u, axis=0))) or 1.0
         painter.setPen(QPen(QColor(255, 255, 255, 150), 1))
         length = 0.8 * step * self._view().width() / self.flow.nodes[0]

@@ -128,9 +128,11 @@ class Exploration:
         t_s: float,
         centre_m: np.ndarray,
         orientation: np.ndarray | float,
+        data_t_s: float | None = None,
     ) -> FieldForce:
-        """Evaluate at the pose and publish the felt force (a non-finite one is dropped)."""
-        result = self.force_at(t_s, centre_m, orientation)
+        """Evaluate at the pose and publish the felt force at ``t_s`` (a non-finite one is
+        dropped); the flow is read at ``data_t_s`` (default ``t_s``)."""
+        result = self.force_at(t_s if data_t_s is None else data_t_s, centre_m, orientation)
         force, torque = self.felt(result)
         if np.all(np.isfinite(force)) and np.all(np.isfinite(torque)):
             channel.publish_force(t_s, force, torque)
@@ -216,12 +218,8 @@ def run_scripted(
 
     for k, sample in enumerate(samples):
         pos, orientation = path.pose_at(sample.t_s)  # type: ignore[attr-defined]
-        result = exploration.force_at(data_time(sample.t_s), pos, orientation)
+        result = exploration.publish(channel, sample.t_s, pos, orientation, data_time(sample.t_s))
         force, torque = exploration.felt(result)
-        if np.all(np.isfinite(force)) and np.all(np.isfinite(torque)):
-            channel.publish_force(sample.t_s, force, torque)
-        else:
-            exploration.dropped += 1
         outside += result.outside_fraction > 0
         rows.append([sample.t_s, *force, *torque])
         next_t = samples[k + 1].t_s if k + 1 < len(samples) else t1 + 0.1

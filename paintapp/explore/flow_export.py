@@ -50,18 +50,9 @@ class FlowFrames:
         dim = sim.grid.dim
         st = sim.state
         cells = sim.grid.cells[:dim]
-        centre = []
-        for a in range(dim):
-            q = st.comps[a]
-            lo = [slice(None)] * 3
-            hi = [slice(None)] * 3
-            lo[a] = slice(0, -1)
-            hi[a] = slice(1, None)
-            c = 0.5 * (q[tuple(lo)] + q[tuple(hi)])
-            centre.append(c.reshape(cells))
         self.times_s.append(float(sim.time_s))
         self.pressure_pa.append(np.asarray(st.pressure, dtype=float).reshape(cells).copy())
-        self.velocity_m_s.append(np.stack(centre))
+        self.velocity_m_s.append(sim.cell_velocity().reshape(dim, *cells))
         self.fluid = np.asarray(st.label).reshape(cells) == FLUID
 
     def arrays(self) -> dict[str, np.ndarray]:
