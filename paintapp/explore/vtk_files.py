@@ -46,7 +46,7 @@ def read_vtk_frame(path: Path) -> Frame:
 
 def _read(path: Path) -> Any:
     try:
-        from vtkmodules.vtkCommonCore import vtkObject
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
         from vtkmodules.vtkIOLegacy import vtkDataSetReader
         from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLRectilinearGridReader
     except ImportError:
@@ -55,7 +55,8 @@ def _read(path: Path) -> Any:
             "(or convert the data to .npz)",
             source=str(path),
         ) from None
-    vtkObject.GlobalWarningDisplayOff()
+    vtkObject.GlobalWarningDisplayOff()  # our own message says what is wrong
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
     suffix = path.suffix.lower()
     readers: dict[str, Any] = {".vti": vtkXMLImageDataReader, ".vtr": vtkXMLRectilinearGridReader}
     reader: Any = readers.get(suffix, vtkDataSetReader)()
