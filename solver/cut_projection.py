@@ -20,7 +20,7 @@ from numba import njit
 
 from solver.boundary import OUTFLOW
 from solver.faces import FLUID, rigid_velocity
-from solver.pcg import SolveReport, StencilSystem, solve
+from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -199,9 +199,11 @@ def project_cut(
     phi: np.ndarray,
     tol: float,
     max_iter: int,
+    linear_solve: LinearSolve = solve,
 ) -> SolveReport:
     """Make the velocity discretely divergence-free on the cut geometry, in place; ``phi`` is the
-    warm start and the result (``p dt / rho`` or its increment)."""
+    warm start and the result (``p dt / rho`` or its increment); ``linear_solve`` as in
+    :func:`solver.projection.project`."""
     dim = system.dim
     flux = np.empty(static.shape)
     u, v, w = comps
@@ -214,7 +216,7 @@ def project_cut(
         if n:
             rhs[system.active] -= rhs[system.active].sum() / n
     phi[~system.active] = 0.0
-    report = solve(system, rhs, phi, tol, max_iter)
+    report = linear_solve(system, rhs, phi, tol, max_iter)
     for a in range(dim):
         subtract_cut_gradient(comps[a], static, kinds, open_frac[a], a, system.active, phi, h)
     return report

@@ -17,7 +17,7 @@ from numba import njit
 
 from solver.boundary import INFLOW, WALL
 from solver.faces import BOUNDARY, FREE, INTERIOR, rigid_velocity
-from solver.pcg import SolveReport, StencilSystem, solve
+from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 from solver.viscosity import _surface_velocity, face_viscosity
 
 MIN_THETA = 0.1
@@ -144,6 +144,7 @@ def diffuse_cut(
     tol: float,
     max_iter: int,
     drag_cell: np.ndarray | None = None,
+    linear_solve: LinearSolve = solve,
 ) -> SolveReport:
     """Implicit viscosity of component ``axis`` in place, no-slip at the probes' surfaces."""
     mu_face = np.empty_like(q)
@@ -160,4 +161,4 @@ def diffuse_cut(
         q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
         owner, arrays, rhs,
     )  # fmt: skip
-    return solve(system, rhs, q, tol, max_iter)
+    return linear_solve(system, rhs, q, tol, max_iter)

@@ -9,6 +9,7 @@ the paper's choice of incomplete Cholesky with the modification that keeps row s
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -229,3 +230,9 @@ class StencilSystem:
             active=np.zeros(shape, dtype=np.bool_),
             dim=dim,
         )
+
+
+LinearSolve = Callable[[StencilSystem, np.ndarray, np.ndarray, float, int], SolveReport]
+"""A solver for a :class:`StencilSystem`: ``(system, b, x, tol, max_iter) -> SolveReport``,
+solving in place in ``x`` (its value is the warm start); :func:`solve` (MIC(0)-PCG) or
+:meth:`solver.multigrid.Multigrid.solve`."""

@@ -13,7 +13,7 @@ from numba import njit
 
 from solver.boundary import OUTFLOW
 from solver.faces import FLUID, FREE
-from solver.pcg import SolveReport, StencilSystem, solve
+from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 
 
 @njit(cache=True, nogil=True)
@@ -99,8 +99,10 @@ def project(
     phi: np.ndarray,
     tol: float,
     max_iter: int,
+    linear_solve: LinearSolve = solve,
 ) -> SolveReport:
-    """Make the velocity divergence-free in place; ``phi`` (= p dt / rho) is warm start and result."""
+    """Make the velocity divergence-free in place; ``phi`` (= p dt / rho) is warm start and result.
+    ``linear_solve`` solves the Poisson system (MIC(0)-PCG unless given)."""
     u, v, w = comps
     system = StencilSystem.empty(label.shape, dim)
     build_pressure_system(
@@ -115,7 +117,7 @@ def project(
         if n:
             rhs[fluid] -= rhs[fluid].sum() / n
     phi[~system.active] = 0.0
-    report = solve(system, rhs, phi, tol, max_iter)
+    report = linear_solve(system, rhs, phi, tol, max_iter)
     for a in range(dim):
         subtract_gradient(comps[a], face_types[a], a, phi, h)
     return report

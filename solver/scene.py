@@ -23,7 +23,7 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
-from solver.solver_settings import BOUNDARY_METHODS, PRESSURE_SCHEMES
+from solver.solver_settings import BOUNDARY_METHODS, PRECONDITIONERS, PRESSURE_SCHEMES
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000
@@ -310,6 +310,14 @@ def _settings(t: Table) -> SolverSettings:
             "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
         ),
         pressure_scheme=t.string("pressure_scheme", "auto", choices=list(PRESSURE_SCHEMES)),
+        preconditioner=t.string(
+            "preconditioner", SolverSettings.preconditioner, choices=list(PRECONDITIONERS)
+        ),
+        viscosity_preconditioner=t.string(
+            "viscosity_preconditioner",
+            SolverSettings.viscosity_preconditioner,
+            choices=list(PRECONDITIONERS),
+        ),
     )
     t.finish()
     return s

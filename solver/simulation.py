@@ -30,10 +30,16 @@ from solver.faces import FLUID, STATIC_SOLID, classify_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
-from solver.pcg import SolveReport
+from solver.multigrid import DIFFUSION_SCALES, Multigrid
+from solver.pcg import LinearSolve, SolveReport, solve
 from solver.probes import Probe
 from solver.projection import divergence_sum, project, subtract_gradient
-from solver.solver_settings import BOUNDARY_METHODS, PRESSURE_SCHEMES, SolverSettings
+from solver.solver_settings import (
+    BOUNDARY_METHODS,
+    PRECONDITIONERS,
+    PRESSURE_SCHEMES,
+    SolverSettings,
+)
 from solver.stress import stress_integral
 from solver.viscosity import diffuse
 
@@ -123,7 +129,16 @@ class Simulation:
             raise ValueError(f"boundary_method must be one of {BOUNDARY_METHODS}")
         if self.settings.pressure_scheme not in PRESSURE_SCHEMES:
             raise ValueError(f"pressure_scheme must be one of {PRESSURE_SCHEMES}")
+        for knob in ("preconditioner", "viscosity_preconditioner"):
+            if getattr(self.settings, knob) not in PRECONDITIONERS:
+                raise ValueError(f"{knob} must be one of {PRECONDITIONERS}")
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
+        self._pressure_solve = _linear_solver(self.settings.preconditioner, grid.cells, grid.dim)
+        self._viscosity_solves = [
+            _linear_solver(self.settings.viscosity_preconditioner, grid.face_shape(a), grid.dim,
+                           DIFFUSION_SCALES)
+            for a in range(grid.dim)
+        ]  # fmt: skip
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
         self._was_active = np.zeros(grid.cells, dtype=np.bool_)
         self.static_solid = (
@@ -185,7 +200,7 @@ class Simulation:
             report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
                                  self.cut.owner_face, np.stack(self.rigid_motion()[:3]),
                                  g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
-                                 cfg.max_iterations)  # fmt: skip
+                                 cfg.max_iterations, self._pressure_solve)  # fmt: skip
         else:
             report = project(
                 st.comps,
@@ -197,6 +212,7 @@ class Simulation:
                 phi,
                 cfg.pressure_tolerance,
                 cfg.max_iterations,
+                self._pressure_solve,
             )
         if cfg.incremental_pressure:
             st.pressure = st.pressure + phi * (rho / dt_s)
@@ -255,6 +271,7 @@ class Simulation:
                     cfg.viscosity_tolerance,
                     cfg.max_iterations,
                     self.drag_per_s,
+                    self._viscosity_solves[a],
                 )
                 for a in range(g.dim)
             )
@@ -275,6 +292,7 @@ class Simulation:
                 cfg.viscosity_tolerance,
                 cfg.max_iterations,
                 self.drag_per_s,
+                self._viscosity_solves[a],
             )
             for a in range(g.dim)
         )
@@ -554,3 +572,14 @@ def _shifted(q: np.ndarray, off: list[int]) -> np.ndarray:
         dst.append(slice(max(-o, 0), n - max(o, 0)))
     out[tuple(dst)] = q[tuple(src)]
     return out
+
+
+def _linear_solver(
+    name: str, shape: tuple[int, int, int], dim: int, scales: tuple[float, float] | None = None
+) -> LinearSolve:
+    """The solve for systems over ``shape``: MGPCG with a hierarchy kept for the grid (built
+    once; the grid's shape never changes), or MIC(0)-PCG."""
+    if name == "mic0":
+        return solve
+    mg = Multigrid(shape, dim) if scales is None else Multigrid(shape, dim, scales)
+    return mg.solve

@@ -23,7 +23,7 @@ from numba import njit
 
 from solver.boundary import INFLOW, WALL
 from solver.faces import FREE, INTERIOR, rigid_velocity
-from solver.pcg import SolveReport, StencilSystem, solve
+from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 
 
 @njit(cache=True, nogil=True)
@@ -145,6 +145,7 @@ def diffuse(
     tol: float,
     max_iter: int,
     drag_cell: np.ndarray | None = None,
+    linear_solve: LinearSolve = solve,
 ) -> SolveReport:
     """Apply implicit viscosity with cell viscosities ``mu_cell`` (Pa s, cells' shape) in place.
 
@@ -165,4 +166,4 @@ def diffuse(
         q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h,
         arrays, rhs,
     )  # fmt: skip
-    return solve(system, rhs, q, tol, max_iter)
+    return linear_solve(system, rhs, q, tol, max_iter)

@@ -1,0 +1,442 @@
+"""Multigrid-preconditioned conjugate gradients (MGPCG) on 7-point stencil systems.
+
+After McAdams, Sifakis & Teran, "A parallel multigrid Poisson solver for fluids simulation on
+large grids" (SCA 2010): conjugate gradients preconditioned by one geometric multigrid V-cycle.
+The hierarchy is built from the assembled fine matrix itself (:class:`~solver.pcg.StencilSystem`,
+any face weights: the staircase's 0/1, the cut cells' open fractions, outflow ghosts, a
+viscosity solve's mass term), so it respects solid, fluid and outflow cells and every cut-cell
+weight without knowing where they came from:
+
+- cells are aggregated 2 x 2 (x 2 in 3D) per level, until the coarsest level is a few cells a
+  side; a coarse cell is an unknown when any of its children is and its diagonal is positive;
+- the coarse matrix is the Galerkin product ``P^T A P`` with piecewise-constant ``P``, which keeps
+  the 7-point stencil and symmetry, with its zero-row-sum (Laplacian) part scaled by
+  ``laplacian_scale`` (1/2: the face weights of the same operator rediscretized on cells twice
+  as wide, in 2D and 3D alike) and its row sums (mass, drag, Dirichlet ghosts) by ``mass_scale``;
+- smoothing is red-black Gauss-Seidel, red then black going down and black then red coming
+  back, with the coarsest level swept the same way many times, so the V-cycle is a symmetric
+  positive definite preconditioner and CG applies.
+
+Every array of the hierarchy is preallocated once per grid shape and refilled in place each
+solve: rebuilding it as probes move costs about two passes over the fine grid.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from solver.pcg import SolveReport, StencilSystem
+
+PRE_SMOOTH = 2
+COARSEST_SWEEPS = 16
+COARSEST_CELLS = 4
+PRESSURE_SCALES = (0.5, 0.5)
+DIFFUSION_SCALES = (0.5, 1.0)
+
+
+def level_shapes(shape: tuple[int, int, int]) -> list[tuple[int, int, int]]:
+    """The shapes of the hierarchy, finest first: every axis longer than one cell halved
+    (rounded up) until none exceeds ``COARSEST_CELLS`` cells."""
+    shapes = [tuple(int(c) for c in shape)]
+    while max(shapes[-1]) > COARSEST_CELLS:
+        shapes.append(tuple((c + 1) // 2 for c in shapes[-1]))
+    return shapes  # type: ignore[return-value]
+
+
+@njit(cache=True, nogil=True)
+def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l, scale_m):
+    """Fill level ``level + 1`` of the packed hierarchy from level ``level``, and the inverse
+    diagonal ``inv`` of level ``level``.
+
+    All arrays are the packed (concatenated, flat) hierarchy; ``shapes`` (L, 3) and ``starts``
+    (L,) locate each level in them."""
+    nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
+    cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
+    fo, co = starts[level], starts[level + 1]
+    fx = 2 if cx < nx else 1
+    fy = 2 if cy < ny else 1
+    fz = 2 if cz < nz else 1
+    csize = cx * cy * cz
+    # scratch in the coarse level's slots: diag holds the Laplacian part, inv the row sums,
+    # active the "any child" flag; offx/offy/offz accumulate the couplings between aggregates
+    for c in range(co, co + csize):
+        diag[c] = 0.0
+        inv[c] = 0.0
+        offx[c] = 0.0
+        offy[c] = 0.0
+        offz[c] = 0.0
+        active[c] = False
+    sx, sy = ny * nz, nz
+    for i in range(nx):
+        ci = i // fx
+        inner_x = fx == 2 and (i & 1) == 0 and i + 1 < nx
+        outer_x = (fx == 1 or (i & 1) == 1) and i + 1 < nx
+        for j in range(ny):
+            cj = j // fy
+            inner_y = fy == 2 and (j & 1) == 0 and j + 1 < ny
+            outer_y = (fy == 1 or (j & 1) == 1) and j + 1 < ny
+            base = fo + (i * ny + j) * nz
+            cbase = co + (ci * cy + cj) * cz
+            for k in range(nz):
+                n = base + k
+                if not active[n]:
+                    inv[n] = 0.0
+                    continue
+                d = diag[n]
+                inv[n] = 1.0 / d if d > 0.0 else 0.0  # an entry cut off from every neighbour
+                c = cbase + k // fz
+                m = d
+                if i > 0:
+                    m += offx[n - sx]
+                if i < nx - 1:
+                    m += offx[n]
+                if j > 0:
+                    m += offy[n - sy]
+                if j < ny - 1:
+                    m += offy[n]
+                if k > 0:
+                    m += offz[n - 1]
+                if k < nz - 1:
+                    m += offz[n]
+                lap = d - m
+                if inner_x:
+                    lap += 2.0 * offx[n]
+                if inner_y:
+                    lap += 2.0 * offy[n]
+                if fz == 2 and (k & 1) == 0 and k + 1 < nz:
+                    lap += 2.0 * offz[n]
+                if outer_x:
+                    offx[c] += offx[n]
+                if outer_y:
+                    offy[c] += offy[n]
+                if (fz == 1 or (k & 1) == 1) and k + 1 < nz:
+                    offz[c] += offz[n]
+                diag[c] += lap
+                inv[c] += m
+                active[c] = True
+    for c in range(co, co + csize):
+        d = scale_l * diag[c] + scale_m * inv[c]
+        ref = scale_l * diag[c] + abs(scale_m * inv[c])
+        ok = active[c] and d > 1e-12 * ref
+        active[c] = ok
+        diag[c] = d if ok else 0.0
+        inv[c] = 1.0 / d if ok else 0.0
+        offx[c] *= scale_l
+        offy[c] *= scale_l
+        offz[c] *= scale_l
+    # a coupling to an inactive coarse cell must vanish (the stencil's contract), as must one
+    # beyond the end of an axis
+    csx, csy = cy * cz, cz
+    for ci in range(cx):
+        for cj in range(cy):
+            for ck in range(cz):
+                c = co + (ci * cy + cj) * cz + ck
+                if ci == cx - 1:
+                    offx[c] = 0.0
+                if cj == cy - 1:
+                    offy[c] = 0.0
+                if ck == cz - 1:
+                    offz[c] = 0.0
+                if not active[c]:
+                    offx[c] = 0.0
+                    offy[c] = 0.0
+                    offz[c] = 0.0
+                    if ci > 0:
+                        offx[c - csx] = 0.0
+                    if cj > 0:
+                        offy[c - csy] = 0.0
+                    if ck > 0:
+                        offz[c - 1] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, colour):
+    """One Gauss-Seidel pass over the cells of one colour (``(i + j + k) % 2``)."""
+    sx, sy = ny * nz, nz
+    for i in range(nx):
+        for j in range(ny):
+            for k in range((i + j + colour) & 1, nz, 2):
+                n = o + (i * ny + j) * nz + k
+                if not active[n]:
+                    continue
+                s = b[n]
+                if i > 0:
+                    s -= offx[n - sx] * x[n - sx]
+                if i < nx - 1:
+                    s -= offx[n] * x[n + sx]
+                if j > 0:
+                    s -= offy[n - sy] * x[n - sy]
+                if j < ny - 1:
+                    s -= offy[n] * x[n + sy]
+                if k > 0:
+                    s -= offz[n - 1] * x[n - 1]
+                if k < nz - 1:
+                    s -= offz[n] * x[n + 1]
+                x[n] = s * inv[n]
+
+
+@njit(cache=True, nogil=True)
+def _residual_restrict(diag, offx, offy, offz, active, shapes, starts, level, b, x):
+    """Restrict ``b - A x`` of ``level`` into ``b`` of ``level + 1`` (sum over children)."""
+    nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
+    cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
+    o, co = starts[level], starts[level + 1]
+    fx = 2 if cx < nx else 1
+    fy = 2 if cy < ny else 1
+    fz = 2 if cz < nz else 1
+    sx, sy = ny * nz, nz
+    for c in range(co, co + cx * cy * cz):
+        b[c] = 0.0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                n = o + (i * ny + j) * nz + k
+                if not active[n]:
+                    continue
+                s = b[n] - diag[n] * x[n]
+                if i > 0:
+                    s -= offx[n - sx] * x[n - sx]
+                if i < nx - 1:
+                    s -= offx[n] * x[n + sx]
+                if j > 0:
+                    s -= offy[n - sy] * x[n - sy]
+                if j < ny - 1:
+                    s -= offy[n] * x[n + sy]
+                if k > 0:
+                    s -= offz[n - 1] * x[n - 1]
+                if k < nz - 1:
+                    s -= offz[n] * x[n + 1]
+                b[co + ((i // fx) * cy + j // fy) * cz + k // fz] += s
+
+
+@njit(cache=True, nogil=True)
+def _prolong_add(active, shapes, starts, level, x):
+    """Add the correction of ``level + 1`` to every unknown of ``level`` (constant per child)."""
+    nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
+    cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
+    o, co = starts[level], starts[level + 1]
+    fx = 2 if cx < nx else 1
+    fy = 2 if cy < ny else 1
+    fz = 2 if cz < nz else 1
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                n = o + (i * ny + j) * nz + k
+                if active[n]:
+                    x[n] += x[co + ((i // fx) * cy + j // fy) * cz + k // fz]
+
+
+@njit(cache=True, nogil=True)
+def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x):
+    """z = M^{-1} r, one symmetric V-cycle from a zero guess (``b``, ``x``: packed scratch)."""
+    levels = shapes.shape[0]
+    size0 = r.size
+    for n in range(size0):
+        b[n] = r[n]
+    for lev in range(levels):
+        o = starts[lev]
+        for n in range(o, o + shapes[lev, 0] * shapes[lev, 1] * shapes[lev, 2]):
+            x[n] = 0.0
+    for lev in range(levels - 1):
+        nx, ny, nz, o = shapes[lev, 0], shapes[lev, 1], shapes[lev, 2], starts[lev]
+        for _ in range(PRE_SMOOTH):
+            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+        _residual_restrict(diag, offx, offy, offz, active, shapes, starts, lev, b, x)
+    last = levels - 1
+    nx, ny, nz, o = shapes[last, 0], shapes[last, 1], shapes[last, 2], starts[last]
+    for _ in range(COARSEST_SWEEPS):
+        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+    for _ in range(COARSEST_SWEEPS):
+        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+    for lev in range(levels - 2, -1, -1):
+        nx, ny, nz, o = shapes[lev, 0], shapes[lev, 1], shapes[lev, 2], starts[lev]
+        _prolong_add(active, shapes, starts, lev, x)
+        for _ in range(PRE_SMOOTH):
+            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+    for n in range(size0):
+        z[n] = x[n] if active[n] else 0.0
+
+
+@njit(cache=True, nogil=True)
+def _apply(diag, offx, offy, offz, active, nx, ny, nz, x, out):
+    """out = A x on the finest level (0 off ``active``)."""
+    sx, sy = ny * nz, nz
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                n = (i * ny + j) * nz + k
+                if not active[n]:
+                    out[n] = 0.0
+                    continue
+                s = diag[n] * x[n]
+                if i > 0:
+                    s += offx[n - sx] * x[n - sx]
+                if i < nx - 1:
+                    s += offx[n] * x[n + sx]
+                if j > 0:
+                    s += offy[n - sy] * x[n - sy]
+                if j < ny - 1:
+                    s += offy[n] * x[n + sy]
+                if k > 0:
+                    s += offz[n - 1] * x[n - 1]
+                if k < nz - 1:
+                    s += offz[n] * x[n + 1]
+                out[n] = s
+
+
+@njit(cache=True, nogil=True)
+def build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales):
+    """Fill every coarse level (and every level's inverse diagonal) from the finest."""
+    levels = shapes.shape[0]
+    for lev in range(levels - 1):
+        coarsen(diag, offx, offy, offz, active, inv, shapes, starts, lev, scales[0], scales[1])
+    if levels == 1:
+        for n in range(shapes[0, 0] * shapes[0, 1] * shapes[0, 2]):
+            inv[n] = 1.0 / diag[n] if active[n] and diag[n] > 0.0 else 0.0
+
+
+@njit(cache=True, nogil=True)
+def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol, max_iter,
+               work):  # fmt: skip
+    """CG preconditioned by :func:`v_cycle` on the finest level of a built hierarchy (its matrix
+    occupies the first ``bvec.size`` entries of the packed arrays); ``work`` is (6, packed
+    size) scratch. Returns (iterations, relative residual)."""
+    size = bvec.size
+    nx, ny, nz = shapes[0, 0], shapes[0, 1], shapes[0, 2]
+    r, s, q, z, vb, vx = work[0], work[1], work[2], work[3], work[4], work[5]
+    bnorm = 0.0
+    for n in range(size):
+        bnorm += bvec[n] * bvec[n]
+    bnorm = np.sqrt(bnorm)
+    if bnorm == 0.0:
+        for n in range(size):
+            if active[n]:
+                x[n] = 0.0
+        return 0, 0.0
+    _apply(diag, offx, offy, offz, active, nx, ny, nz, x, q)
+    rr = 0.0
+    for n in range(size):
+        r[n] = bvec[n] - q[n] if active[n] else 0.0
+        rr += r[n] * r[n]
+    rnorm = np.sqrt(rr)
+    if rnorm <= tol * bnorm:
+        return 0, rnorm / bnorm
+    v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r[:size], z, vb, vx)
+    sigma = 0.0
+    for n in range(size):
+        s[n] = z[n]
+        sigma += z[n] * r[n]
+    it = 0
+    while it < max_iter:
+        it += 1
+        _apply(diag, offx, offy, offz, active, nx, ny, nz, s, q)
+        denom = 0.0
+        for n in range(size):
+            denom += q[n] * s[n]
+        if denom <= 0.0:
+            break
+        alpha = sigma / denom
+        rr = 0.0
+        for n in range(size):
+            x[n] += alpha * s[n]
+            r[n] -= alpha * q[n]
+            rr += r[n] * r[n]
+        rnorm = np.sqrt(rr)
+        if rnorm <= tol * bnorm:
+            break
+        v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r[:size], z, vb, vx)
+        sigma_new = 0.0
+        for n in range(size):
+            sigma_new += z[n] * r[n]
+        if sigma_new <= 0.0:
+            break
+        beta = sigma_new / sigma
+        sigma = sigma_new
+        for n in range(size):
+            s[n] = z[n] + beta * s[n]
+    return it, rnorm / bnorm
+
+
+class Multigrid:
+    """MGPCG for systems of one grid shape; arrays are allocated once and reused every solve.
+
+    ``scales`` = (Laplacian part, row-sum part) of the coarse operators: ``PRESSURE_SCALES`` for
+    the Poisson matrix, ``DIFFUSION_SCALES`` for an implicit viscosity solve (its identity term
+    is a mass, which aggregation sums exactly). A 2D system (one cell deep) is handled as an
+    array of shape (1, nx, ny), the same memory, so that the kernels' innermost loop runs along
+    the grid's rows."""
+
+    def __init__(
+        self,
+        shape: tuple[int, int, int],
+        dim: int,
+        scales: tuple[float, float] = PRESSURE_SCALES,
+    ) -> None:
+        self.shape = tuple(int(c) for c in shape)
+        self.dim = dim
+        inner = (1, self.shape[0], self.shape[1]) if dim == 2 else self.shape
+        shapes = level_shapes(inner)  # type: ignore[arg-type]
+        sizes = [int(np.prod(s)) for s in shapes]
+        self.shapes = np.array(shapes, dtype=np.int64)
+        self.starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        total = int(sum(sizes))
+        self.diag = np.zeros(total)
+        self.off = (np.zeros(total), np.zeros(total), np.zeros(total))
+        self.inv = np.zeros(total)
+        self.active = np.zeros(total, dtype=np.bool_)
+        self.work = np.zeros((6, total))
+        self.scales = np.array(scales, dtype=np.float64)
+
+    @property
+    def levels(self) -> int:
+        return int(self.shapes.shape[0])
+
+    def load(self, system: StencilSystem) -> None:
+        """Take ``system`` as the finest level and build the coarse ones from it."""
+        if tuple(system.diag.shape) != self.shape or system.dim != self.dim:
+            raise ValueError(f"system shape {system.diag.shape} does not match {self.shape}")
+        n = system.diag.size
+        self.diag[:n] = system.diag.reshape(-1)
+        # in 2D the kernels' axes (0, 1, 2) are the grid's (none, x, y)
+        axes = (None, 0, 1) if self.dim == 2 else (0, 1, 2)
+        for a, src in enumerate(axes):
+            if src is None:
+                self.off[a][:n] = 0.0
+            else:
+                self.off[a][:n] = system.off[src].reshape(-1)
+        # an entry cut off from every neighbour (a fluid cell walled in by solid) has a zero row:
+        # it is no unknown
+        np.logical_and(system.active.reshape(-1), self.diag[:n] > 0.0, out=self.active[:n])
+        build_levels(self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
+                     self.scales)  # fmt: skip
+
+    def solve(
+        self, system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
+    ) -> SolveReport:
+        """Solve ``system`` x = ``b`` in place in ``x`` (warm start), as :func:`solver.pcg.solve`;
+        active entries with a zero row are left as they are and out of the residual."""
+        self.load(system)
+        flat_x = x.reshape(-1)
+        it, res = mgpcg_flat(
+            self.diag,
+            self.off[0],
+            self.off[1],
+            self.off[2],
+            self.active,
+            self.inv,
+            self.shapes,
+            self.starts,
+            np.ascontiguousarray(b).reshape(-1),
+            flat_x,
+            tol,
+            max_iter,
+            self.work,
+        )
+        if not np.shares_memory(flat_x, x):
+            x[...] = flat_x.reshape(x.shape)
+        return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
