@@ -22,6 +22,12 @@ A preset file::
     gain = 1.0         # fraction of the stylus tilt given to the brush axis
     max_rad = 1.0      # the axis leans at most this far from the canvas normal
     twist_gain = 1.0   # fraction of the stylus twist turning the tip about its axis
+
+    [bristles]         # optional (round and flat only): the bristle texture, brushes.bristles
+    clumps = 24        # bristle clumps across the footprint, 2-400
+    contrast = 0.5     # 0-1: how strongly the clumps streak the paint along the stroke
+    ridge = 0.5        # 0-2: paint heaped along the stroke's sides
+    seed = 0           # integer >= 0: which clump positions
 """
 
 from __future__ import annotations
@@ -33,6 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from brushes.bristles import MAX_CLUMPS, MAX_CONTRAST, Bristles
 from brushes.tips import RoundCone, RoundedBox, Splayed, TipShape
 from common.errors import InputError
 from common.names import check_preset_name, is_preset_name
@@ -89,6 +96,8 @@ class BrushPreset:
         capacity_m3: paint volume the brush holds (m^3).
         pressure, tilt: the responses.
         description: free text.
+        bristles: the bristle texture (:class:`brushes.bristles.Bristles`), or None for an even
+            footprint (a rigid probe, or a preset without ``[bristles]``).
     """
 
     name: str
@@ -99,6 +108,7 @@ class BrushPreset:
     pressure: PressureResponse
     tilt: TiltResponse = field(default_factory=TiltResponse)
     description: str = ""
+    bristles: Bristles | None = None
 
     @property
     def length_m(self) -> float:
@@ -132,7 +142,10 @@ class BrushPreset:
     ) -> BrushPreset:
         """Validate a parsed preset table; raises :class:`InputError` naming ``source`` and key."""
         top = Table(data, source or "", "")
-        top.expect(("description", "shape", "stiffness", "capacity_m3", "size", "pressure", "tilt"))
+        top.expect(
+            ("description", "shape", "stiffness", "capacity_m3", "size", "pressure", "tilt",
+             "bristles")
+        )  # fmt: skip
         shape = top.string("shape", choices=SHAPES)
         size = _size_table(top.table("size"), shape)
         capacity = top.number(
@@ -151,6 +164,7 @@ class BrushPreset:
             pressure=_pressure(top.table("pressure"), size["length_m"]),
             tilt=_tilt(top.table("tilt", {})),
             description=top.string("description", ""),
+            bristles=_bristles(top, shape),
         )
         top.finish()
         return preset
@@ -213,6 +227,25 @@ def _tilt(table: Table) -> TiltResponse:
     )
     table.finish()
     return response
+
+
+def _bristles(top: Table, shape: str) -> Bristles | None:
+    if not top.has("bristles"):
+        top.raw("bristles", None)
+        return None
+    if shape == "box":
+        raise top.error("bristles", "a box probe is rigid and has no bristles; remove [bristles]")
+    table = top.table("bristles")
+    table.expect(("clumps", "contrast", "ridge", "seed"))
+    default = Bristles()
+    bristles = Bristles(
+        clumps=table.integer("clumps", default.clumps, minimum=2, maximum=MAX_CLUMPS),
+        contrast=table.number("contrast", default.contrast, minimum=0.0, maximum=MAX_CONTRAST),
+        ridge=table.number("ridge", default.ridge, minimum=0.0, maximum=2.0),
+        seed=table.integer("seed", default.seed, minimum=0),
+    )
+    table.finish()
+    return bristles
 
 
 def load_preset(path: str | Path) -> BrushPreset:

@@ -27,11 +27,13 @@ the texels it reaches).
 from __future__ import annotations
 
 import math
+from typing import Protocol
 
 import numpy as np
 
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
+from paintapp.canvas.regions import Box
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`). 0.1 um: far below any visible layer of paint.
@@ -39,6 +41,14 @@ FILM_FLOOR_M = 1e-7
 
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
+
+
+class TexelWeights(Protocol):
+    """Per-texel weights shaping a column change (see :func:`_spread_change`)."""
+
+    def weights(self, box: Box) -> tuple[np.ndarray, np.ndarray] | None:
+        """(gain, loss) weights (ny, nx) over ``box``: gains > 0, losses in (0, 1]; or None
+        (even weights)."""
 
 
 def square_texel_m(canvas: Canvas) -> float:
@@ -162,8 +172,13 @@ class ColumnWindow:
         out[:, r[0] : r[1], r[2] : r[3]] = _to_columns(mobile, wx, wy) / self.k**2
         return out
 
-    def write_back(self, canvas: Canvas, delta_m: np.ndarray) -> None:
-        """Apply a change of mobile paint per column, (P, nx, ny) metres, to the texels."""
+    def write_back(
+        self, canvas: Canvas, delta_m: np.ndarray, texture: TexelWeights | None = None
+    ) -> None:
+        """Apply a change of mobile paint per column, (P, nx, ny) metres, to the texels.
+
+        ``texture`` (a brush's bristle texture, :mod:`paintapp.paint.bristles`) gives per-texel
+        gain and loss weights that shape where within its tent a column's change lands."""
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
             return
@@ -179,7 +194,8 @@ class ColumnWindow:
         paint, wet, mobile = self._mobile(canvas, box)
         owned = _to_columns(mobile, wx, wy)
         change = drop_thin_films(owned, delta * self.k**2, FILM_FLOOR_M * self.k**2)
-        new_mobile, touched = _spread_change(mobile, owned, change, wx, wy)
+        shape = texture.weights(box) if texture is not None else None
+        new_mobile, touched = _spread_change(mobile, owned, change, wx, wy, shape)
         if not touched.any():
             return
         new_paint = paint * (1.0 - wet) + new_mobile  # dry part + new wet part
@@ -242,7 +258,12 @@ def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.n
 
 
 def _spread_change(
-    mobile: np.ndarray, owned: np.ndarray, change: np.ndarray, wx: np.ndarray, wy: np.ndarray
+    mobile: np.ndarray,
+    owned: np.ndarray,
+    change: np.ndarray,
+    wx: np.ndarray,
+    wy: np.ndarray,
+    shape: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """New mobile paint per texel (P, ny_t, nx_t) after column changes ``change`` (P, ni, nj,
     texel volumes: metres times texels; ``owned``: the columns' tent-weighted mobile paint in
@@ -251,12 +272,32 @@ def _spread_change(
     A gain is laid down with the column's tent weights, normalised over its texels on the
     canvas; a loss takes the same fraction ``f`` of the tent-weighted mobile paint of every texel
     in the column's support (``f <= 1``, so with the weights' partition of unity no texel loses
-    more than it holds)."""
-    support = np.outer(wx.sum(axis=1), wy.sum(axis=1))[None]  # (1, ni, nj)
-    gain = np.maximum(change, 0.0) / support
-    with np.errstate(invalid="ignore", divide="ignore"):
-        fraction = np.where((change < 0.0) & (owned > 0.0), -change / owned, 0.0)
-    lost = mobile * _to_texels(np.minimum(fraction, 1.0), wx, wy)
-    laid = _to_texels(gain, wx, wy)
+    more than it holds).
+
+    With ``shape`` = (gain weights ``g``, loss weights ``b`` in [0, 1]) per texel, a gain is laid
+    down with the tent weights times ``g`` (normalised per column), and a loss is taken first as
+    a fraction ``f`` of the tent-and-``b``-weighted paint, any rest as a fraction ``r`` of the
+    tent-and-``(1 - b)``-weighted paint: a texel loses ``m (b F + (1 - b) R)`` with ``F``, ``R``
+    the tent sums of the columns' fractions, both at most 1, so again no texel loses more than
+    it holds, and each column loses exactly its loss."""
+    if shape is None:
+        support = np.outer(wx.sum(axis=1), wy.sum(axis=1))[None]  # (1, ni, nj)
+        gain = np.maximum(change, 0.0) / support
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fraction = np.where((change < 0.0) & (owned > 0.0), -change / owned, 0.0)
+        lost = mobile * _to_texels(np.minimum(fraction, 1.0), wx, wy)
+        laid = _to_texels(gain, wx, wy)
+    else:
+        g, b = shape
+        support = _to_columns(g[None], wx, wy)
+        laid = g[None] * _to_texels(np.maximum(change, 0.0) / support, wx, wy)
+        loss = np.maximum(-change, 0.0)
+        first = _to_columns(mobile * b[None], wx, wy)
+        rest = np.maximum(owned - first, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            f = np.where((loss > 0.0) & (first > 0.0), np.minimum(loss / first, 1.0), 0.0)
+            left = np.maximum(loss - f * first, 0.0)
+            r = np.where((left > 0.0) & (rest > 0.0), np.minimum(left / rest, 1.0), 0.0)
+        lost = mobile * (b[None] * _to_texels(f, wx, wy) + (1.0 - b[None]) * _to_texels(r, wx, wy))
     touched = np.any((lost > 0.0) | (laid > 0.0), axis=0)
     return np.maximum(mobile - lost, 0.0) + laid, touched

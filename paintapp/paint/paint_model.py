@@ -30,8 +30,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from brushes import BrushPreset, PaintReservoir, TipPose
+from brushes import BrushPreset, PaintReservoir, Section, TipPose
+from common.tilt import yaw_angle
 from paintapp.canvas.model import Canvas
+from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import ColumnWindow, cell_texels, square_texel_m
 from paintapp.paint.exchange import ExchangeReport
 from paintapp.paint.paint_scene import PaintScene
@@ -154,6 +156,9 @@ class PaintModel(ABC):
         self.window = ColumnWindow(canvas, cells_xy, k)
         self.margin_cells = scaled_margin(scene.margin_cells, ref, cells_xy)
         self.pose: TipPose | None = None
+        #: Direction of the tip's last lateral motion (canvas plane): the bristles' streaks
+        #: run along it.
+        self.heading = np.array([0.0, 1.0])
 
     def solver_settings(self) -> SolverSettings:
         """The scene's solver settings, with no force work when nothing reads the force."""
@@ -188,6 +193,8 @@ class PaintModel(ABC):
         """The brush enters the paint at ``pose``: centre the window there, fluid at rest."""
         self.window.place(float(pose.position_m[0]), float(pose.position_m[1]))
         self.pose = pose
+        yaw = yaw_angle(pose.orientation)
+        self.heading = np.array([-math.sin(yaw), math.cos(yaw)])  # body y: a flat brush's stroke
         self._reset(pose)
 
     def lift(self) -> None:
@@ -200,7 +207,10 @@ class PaintModel(ABC):
             self.touch_down(pose)
         assert self.pose is not None
         start = self.pose
-        travel = float(np.hypot(*(pose.position_m[:2] - start.position_m[:2])))
+        move = np.asarray(pose.position_m[:2] - start.position_m[:2], dtype=float)
+        travel = float(np.hypot(*move))
+        if travel > 1e-3 * self.window.texel_m:
+            self.heading = move / travel
         by_travel = math.ceil(travel / (MAX_TRAVEL_CELLS * self.cell_size_m) - 1e-9)
         n = max(
             1, math.ceil(dt_s / self.scene.max_step_s - 1e-9), min(by_travel, MAX_TRAVEL_SUBSTEPS)
@@ -239,6 +249,25 @@ class PaintModel(ABC):
             self.window.shift(di, dj)
             self._shifted(di, dj)
         return di, dj
+
+    def texture(self, pose: TipPose, centre_m: np.ndarray) -> BristleTexture | None:
+        """The brush's bristle texture for a step with the apex at ``centre_m``, or None for a
+        preset without bristles."""
+        bristles = self.preset.bristles
+        if bristles is None:
+            return None
+        h = self.cell_size_m
+        depth = max(pose.press_depth_m + pose.compression_m, section_height_m(pose, h))
+        footprint = Section(self.preset.tip(pose.splay), depth)
+        return BristleTexture(
+            bristles,
+            footprint,
+            np.asarray(centre_m, dtype=float)[:2],
+            yaw_angle(pose.orientation),
+            self.heading,
+            self.window.texel_m,
+            h,
+        )
 
     def wet_columns(self) -> np.ndarray:
         """Wet paint per column under the window, (P, nx, ny) metres."""

@@ -86,7 +86,7 @@ class StampModel(PaintModel):
         deposited = np.array([released.get(n, 0.0) for n in names])
         if deposited.sum() > 0.0:
             q += deposited[:, None, None] / area * (room / room.sum())[None]
-        self.window.write_back(self.canvas, q - columns)
+        self.window.write_back(self.canvas, q - columns, self.texture(pose, centre_m))
         report = ExchangeReport(
             swept_m3=float(under.sum()),
             picked_up_m3=float(sum(taken.values())),

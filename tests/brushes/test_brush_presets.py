@@ -100,6 +100,13 @@ def test_flat_corner_radius_defaults_to_half_thickness(tmp_path):
         ("[pressure]\ndepth_m = 0.0015", "[push]\ndepth_m = 0.0015", "push"),
         ("spread = 0.8", "spread = 0.8\n[tilt]\nmax_rad = 2.0", "tilt.max_rad"),
         ("stiffness = 0.4", "stiffness = 0.4\ntilt = 1", "tilt"),
+        ("spread = 0.8", "spread = 0.8\n[bristles]\nclumps = 1", "bristles.clumps"),
+        ("spread = 0.8", "spread = 0.8\n[bristles]\nclumps = 12.5", "bristles.clumps"),
+        ("spread = 0.8", "spread = 0.8\n[bristles]\ncontrast = 1.5", "bristles.contrast"),
+        ("spread = 0.8", 'spread = 0.8\n[bristles]\nridge = "high"', "bristles.ridge"),
+        ("spread = 0.8", "spread = 0.8\n[bristles]\nseed = -1", "bristles.seed"),
+        ("spread = 0.8", "spread = 0.8\n[bristles]\nhairs = 40", "bristles.hairs"),
+        ("stiffness = 0.4", "stiffness = 0.4\nbristles = 3", "bristles"),
     ],
 )
 def test_bad_presets_name_file_and_key(tmp_path, old, new, key):
@@ -142,3 +149,34 @@ def test_missing_file_and_unknown_or_unsafe_names(tmp_path):
         find_preset("yours", tmp_path)
     with pytest.raises(InputError):
         find_preset("../mine", tmp_path)
+
+
+def test_bristles_are_optional_per_preset_and_refused_on_a_rigid_probe(tmp_path):
+    assert load_preset(write(tmp_path, GOOD)).bristles is None
+    text = GOOD + "\n[bristles]\nclumps = 10\ncontrast = 0.6\n"
+    bristles = load_preset(write(tmp_path, text)).bristles
+    assert bristles is not None and (bristles.clumps, bristles.contrast) == (10, 0.6)
+    assert (bristles.ridge, bristles.seed) == (0.5, 0)  # the defaults
+    box = text.replace('"round"', '"box"').replace(
+        "tip_radius_m = 0.0004\nbelly_radius_m = 0.002", "width_m = 0.004\nthickness_m = 0.004"
+    )
+    path = write(tmp_path, box)
+    with pytest.raises(InputError) as err:
+        load_preset(path)
+    assert err.value.key == "bristles" and "rigid" in str(err.value) and str(path) in str(err.value)
+    for name in ("round_small", "round_large", "flat_wide"):
+        assert load_preset_named(name, BUNDLED).bristles is not None
+    assert load_preset_named("square_probe", BUNDLED).bristles is None
+
+
+def test_bristle_profiles_stay_in_range_and_streak_across_the_width():
+    bristles = load_preset_named("flat_wide", BUNDLED).bristles
+    assert bristles is not None
+    u = np.linspace(-1.5, 1.5, 3001)
+    gain, loss = bristles.gain_weight(u), bristles.loss_weight(u)
+    assert gain.min() > 0.0 and 0.0 <= loss.min() and loss.max() <= 1.0
+    inner = np.abs(u) < 0.8
+    assert gain[inner].max() / gain[inner].min() > 3.0  # streaks: strong variation across
+    peaks = np.count_nonzero(np.diff(np.sign(np.diff(bristles.tracks(u[inner])))) < 0)
+    assert peaks >= bristles.clumps // 3  # several separate streaks, not one hump
+    assert bristles.edge(np.array([0.0]))[0] == 0.0 and bristles.edge(np.array([1.0]))[0] == 1.0

@@ -1,0 +1,111 @@
+"""Bristle texture: streaks along the stroke, ridges at its sides, paint still conserved."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.ndimage import binary_dilation, gaussian_filter
+
+from brushes import Section, load_preset_named
+from brushes.bristles import Bristles
+from paintapp.canvas.model import Canvas
+from paintapp.paint.bristles import BristleTexture
+from paintapp.paint.columns import ColumnWindow
+from paintapp.resources import asset_path
+from paintapp.session.painting import PaintingSession
+from tests.paintapp.paint.test_paint_transfer import BLUE, balance, small_scene
+from tests.support.demo_strokes import StrokeSpec, stroke_samples
+
+BRUSHES = asset_path("brushes")
+
+
+def stroke(brush: str, bristles: Bristles | str | None = "preset", scene: str = "default"):
+    """A straight stroke along +x; returns the canvas and the session."""
+    canvas = Canvas((160, 96), (0.04, 0.024), (BLUE,))
+    preset = load_preset_named(brush, BRUSHES)
+    if bristles != "preset":
+        preset = dataclasses.replace(preset, bristles=bristles)
+    session = PaintingSession(canvas, preset, small_scene(scene))
+    session.load_pigment(BLUE, 3e-8)
+    for sample in stroke_samples(StrokeSpec((0.006, 0.012), (0.034, 0.012), 0.6, 0.8), 0.0):
+        session.sample(sample)
+    return canvas, session
+
+
+def stroke_rows(height: np.ndarray) -> slice:
+    """The rows the stroke's middle stretch (texel columns 40-100) covers."""
+    profile = height[:, 40:100].mean(axis=1)
+    rows = np.flatnonzero(profile > 0.2 * profile.max())
+    return slice(rows[0], rows[-1] + 1)
+
+
+def streak_anisotropy(height: np.ndarray) -> float:
+    """Fine relief (height less its 3-texel blur) across the stroke (y) over along it (x)."""
+    fine = (height - gaussian_filter(height, 3.0))[stroke_rows(height), 40:100]
+    return float(np.abs(np.diff(fine, axis=0)).mean() / np.abs(np.diff(fine, axis=1)).mean())
+
+
+@pytest.mark.parametrize("scene", ["default", "thin_glaze"])
+def test_bristles_streak_the_paint_along_the_stroke(scene):
+    textured, _ = stroke("round_large", scene=scene)
+    even, _ = stroke("round_large", None, scene=scene)
+    a_textured = streak_anisotropy(textured.height_m.astype(float))
+    a_even = streak_anisotropy(even.height_m.astype(float))
+    assert a_textured > 4.0  # the fine relief varies across the stroke far more than along it
+    assert a_textured > 1.8 * a_even
+
+
+def test_the_ridge_heaps_paint_at_the_stroke_sides():
+    def sides_over_centre(ridge: float) -> float:
+        canvas, _ = stroke("round_large", Bristles(clumps=12, contrast=0.5, ridge=ridge))
+        height = canvas.height_m.astype(float)
+        profile = height[stroke_rows(height), 40:100].mean(axis=1)
+        q = len(profile) // 4
+        return min(profile[:q].max(), profile[-q:].max()) / profile[q:-q].mean()
+
+    assert sides_over_centre(2.0) > sides_over_centre(0.0) + 0.03
+
+
+@pytest.mark.parametrize("brush", ["round_large", "flat_wide"])
+def test_paint_is_conserved_and_stays_near_the_stroke_with_bristles(brush):
+    canvas, session = stroke(brush)
+    assert session.preset.bristles is not None
+    total = sum(session.loaded_m3.values())
+    for name, error in balance(session).items():
+        assert abs(error) < 2e-6 * total, (name, error)
+    assert canvas.paint_m.min() >= 0.0
+    # The texture moves paint only within a column's reach: no paint (nor wetness) beyond what
+    # the same stroke without bristles painted, widened by one cell.
+    even, _ = stroke(brush, None)
+    near = binary_dilation(even.height_m > 0.0, iterations=session.model.window.k)
+    assert canvas.height_m.max() > 1e-5
+    assert not canvas.height_m[~near].any() and not canvas.wetness[~near].any()
+
+
+def test_a_textured_write_back_moves_exactly_the_column_change():
+    rng = np.random.default_rng(4)
+    canvas = Canvas((120, 120), (0.03, 0.03), (BLUE, "cadmium_red"))
+    paint = rng.uniform(0.0, 2e-4, (2, 120, 120)).astype(np.float32)
+    canvas.write_region(0, 0, paint, np.ones((120, 120), np.float32))
+    window = ColumnWindow(canvas, (16, 16), 5)
+    window.place(0.015, 0.015)
+    preset = load_preset_named("flat_wide", BRUSHES)
+    assert preset.bristles is not None
+    texture = BristleTexture(
+        preset.bristles,
+        Section(preset.tip(1.2), 0.002),
+        np.array([0.015, 0.015]),
+        0.3,
+        np.array([1.0, 0.5]),
+        canvas.texel_size_m[0],
+        window.cell_size_m,
+    )
+    owned = window.gather(canvas)
+    delta = rng.uniform(-1.0, 1.0, owned.shape) * owned  # losses up to all a column holds
+    before = canvas.paint_m.astype(np.float64).sum(axis=(1, 2))
+    window.write_back(canvas, delta, texture)
+    after = canvas.paint_m.astype(np.float64).sum(axis=(1, 2))
+    np.testing.assert_allclose(after - before, delta.sum(axis=(1, 2)) * 25, rtol=1e-5)
+    assert canvas.paint_m.min() >= 0.0
