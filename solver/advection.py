@@ -10,9 +10,9 @@ range (otherwise the first-order value is kept), so the scheme cannot create new
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
-from solver.interp import sample, sample_range, velocity_at
+from solver.interp import lerp, range_at, velocity_in_cells
 
 LINEAR = 0
 MACCORMACK = 1
@@ -20,16 +20,17 @@ SCHEMES = {"linear": LINEAR, "maccormack": MACCORMACK}
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _trace(u, v, w, dim, x, y, z, h, dt):
-    ax, ay, az = velocity_at(u, v, w, dim, x, y, z, h)
-    mx = x - 0.5 * dt * ax
-    my = y - 0.5 * dt * ay
-    mz = z - 0.5 * dt * az
-    bx, by, bz = velocity_at(u, v, w, dim, mx, my, mz, h)
-    return x - dt * bx, y - dt * by, z - dt * bz
+def _trace(u, v, w, dim, gx, gy, gz, c):
+    """Departure point (cell units) of the point (gx, gy, gz) over a step of ``c = dt / h``."""
+    ax, ay, az = velocity_in_cells(u, v, w, dim, gx, gy, gz)
+    mx = gx - 0.5 * c * ax
+    my = gy - 0.5 * c * ay
+    mz = gz - 0.5 * c * az
+    bx, by, bz = velocity_in_cells(u, v, w, dim, mx, my, mz)
+    return gx - c * bx, gy - c * by, gz - c * bz
 
 
-@njit(cache=True, nogil=True, parallel=False)
+@njit(cache=True, nogil=True)
 def advect_component(
     q: np.ndarray,
     axis: int,
@@ -47,22 +48,22 @@ def advect_component(
     """Advect samples ``q`` of component ``axis`` (-1: cell centres) by ``dt`` into ``out``.
 
     With ``want_range``, ``lo``/``hi`` receive the extrema of the interpolation stencil at each
-    departure point (for MacCormack limiting).
+    departure point (for MacCormack limiting). Positions are traced in cell units (no division
+    per sample).
     """
     nx, ny, nz = q.shape
     ox = 0.0 if axis == 0 else 0.5
     oy = 0.0 if axis == 1 else 0.5
     oz = 0.0 if axis == 2 else 0.5
-    for i in prange(nx):
+    c = dt / h
+    for i in range(nx):
         for j in range(ny):
             for k in range(nz):
-                x = (i + ox) * h
-                y = (j + oy) * h
-                z = (k + oz) * h
-                bx, by, bz = _trace(u, v, w, dim, x, y, z, h, dt)
-                out[i, j, k] = sample(q, axis, bx, by, bz, h)
+                bx, by, bz = _trace(u, v, w, dim, i + ox, j + oy, k + oz, c)
+                sx, sy, sz = bx - ox, by - oy, bz - oz
+                out[i, j, k] = lerp(q, sx, sy, sz)
                 if want_range:
-                    a, b = sample_range(q, axis, bx, by, bz, h)
+                    a, b = range_at(q, sx, sy, sz)
                     lo[i, j, k] = a
                     hi[i, j, k] = b
 

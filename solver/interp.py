@@ -12,8 +12,8 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, float]:
-    s = x / h - offset
+def _clamped(s: float, n: int) -> tuple[int, float]:
+    """Lower sample index and fraction of sample coordinate ``s``, clamped to [0, n - 1]."""
     if s <= 0.0:
         return 0, 0.0
     if s >= n - 1:
@@ -22,41 +22,69 @@ def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, floa
     return i, s - i
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, float]:
+    return _clamped(x / h - offset, n)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def lerp(q: np.ndarray, s0: float, s1: float, s2: float) -> float:
+    """Trilinear (bilinear when one sample deep) value of ``q`` at sample coordinates
+    (s0, s1, s2): index units, clamped to the samples' range. The kernels' inner routine: no
+    division, inlined."""
+    nx, ny, nz = q.shape
+    i, fx = _clamped(s0, nx)
+    j, fy = _clamped(s1, ny)
+    i1 = min(i + 1, nx - 1)
+    j1 = min(j + 1, ny - 1)
+    if nz == 1:
+        a = q[i, j, 0] + fx * (q[i1, j, 0] - q[i, j, 0])
+        b = q[i, j1, 0] + fx * (q[i1, j1, 0] - q[i, j1, 0])
+        return a + fy * (b - a)
+    k, fz = _clamped(s2, nz)
+    k1 = min(k + 1, nz - 1)
+    c00 = q[i, j, k] + fx * (q[i1, j, k] - q[i, j, k])
+    c10 = q[i, j1, k] + fx * (q[i1, j1, k] - q[i, j1, k])
+    c01 = q[i, j, k1] + fx * (q[i1, j, k1] - q[i, j, k1])
+    c11 = q[i, j1, k1] + fx * (q[i1, j1, k1] - q[i, j1, k1])
+    c0 = c00 + fy * (c10 - c00)
+    c1 = c01 + fy * (c11 - c01)
+    return c0 + fz * (c1 - c0)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def velocity_in_cells(
+    u: np.ndarray, v: np.ndarray, w: np.ndarray, dim: int, gx: float, gy: float, gz: float
+) -> tuple[float, float, float]:
+    """Velocity at a point given in cell units (position / h from the origin)."""
+    vx = lerp(u, gx, gy - 0.5, gz - 0.5)
+    vy = lerp(v, gx - 0.5, gy, gz - 0.5)
+    vz = lerp(w, gx - 0.5, gy - 0.5, gz) if dim == 3 else 0.0
+    return vx, vy, vz
+
+
 @njit(cache=True, nogil=True)
 def sample(q: np.ndarray, axis: int, x: float, y: float, z: float, h: float) -> float:
     """Trilinear value of samples ``q`` (component ``axis``, or -1 for cell centres) at (x, y, z).
 
     Coordinates are relative to the grid origin, metres; ``h`` is the cell size.
     """
-    nx, ny, nz = q.shape
-    i, fx = _clamped_index(x, 0.0 if axis == 0 else 0.5, h, nx)
-    j, fy = _clamped_index(y, 0.0 if axis == 1 else 0.5, h, ny)
-    k, fz = _clamped_index(z, 0.0 if axis == 2 else 0.5, h, nz)
-    i1 = min(i + 1, nx - 1)
-    j1 = min(j + 1, ny - 1)
-    if nz == 1:
-        a = q[i, j, 0] * (1.0 - fx) + q[i1, j, 0] * fx
-        b = q[i, j1, 0] * (1.0 - fx) + q[i1, j1, 0] * fx
-        return a * (1.0 - fy) + b * fy
-    k1 = min(k + 1, nz - 1)
-    c00 = q[i, j, k] * (1.0 - fx) + q[i1, j, k] * fx
-    c10 = q[i, j1, k] * (1.0 - fx) + q[i1, j1, k] * fx
-    c01 = q[i, j, k1] * (1.0 - fx) + q[i1, j, k1] * fx
-    c11 = q[i, j1, k1] * (1.0 - fx) + q[i1, j1, k1] * fx
-    c0 = c00 * (1.0 - fy) + c10 * fy
-    c1 = c01 * (1.0 - fy) + c11 * fy
-    return c0 * (1.0 - fz) + c1 * fz
+    inv = 1.0 / h
+    return lerp(
+        q,
+        x * inv - (0.0 if axis == 0 else 0.5),
+        y * inv - (0.0 if axis == 1 else 0.5),
+        z * inv - (0.0 if axis == 2 else 0.5),
+    )
 
 
-@njit(cache=True, nogil=True)
-def sample_range(
-    q: np.ndarray, axis: int, x: float, y: float, z: float, h: float
-) -> tuple[float, float]:
-    """Minimum and maximum of the samples that :func:`sample` blends at (x, y, z)."""
+@njit(cache=True, nogil=True, inline="always")
+def range_at(q: np.ndarray, s0: float, s1: float, s2: float) -> tuple[float, float]:
+    """Minimum and maximum of the samples that :func:`lerp` blends at (s0, s1, s2)."""
     nx, ny, nz = q.shape
-    i, _ = _clamped_index(x, 0.0 if axis == 0 else 0.5, h, nx)
-    j, _ = _clamped_index(y, 0.0 if axis == 1 else 0.5, h, ny)
-    k, _ = _clamped_index(z, 0.0 if axis == 2 else 0.5, h, nz)
+    i, _ = _clamped(s0, nx)
+    j, _ = _clamped(s1, ny)
+    k, _ = _clamped(s2, nz)
     lo = np.inf
     hi = -np.inf
     for a in range(i, min(i + 2, nx)):
@@ -69,14 +97,26 @@ def sample_range(
 
 
 @njit(cache=True, nogil=True)
+def sample_range(
+    q: np.ndarray, axis: int, x: float, y: float, z: float, h: float
+) -> tuple[float, float]:
+    """Minimum and maximum of the samples that :func:`sample` blends at (x, y, z)."""
+    inv = 1.0 / h
+    return range_at(
+        q,
+        x * inv - (0.0 if axis == 0 else 0.5),
+        y * inv - (0.0 if axis == 1 else 0.5),
+        z * inv - (0.0 if axis == 2 else 0.5),
+    )
+
+
+@njit(cache=True, nogil=True)
 def velocity_at(
     u: np.ndarray, v: np.ndarray, w: np.ndarray, dim: int, x: float, y: float, z: float, h: float
 ) -> tuple[float, float, float]:
     """Velocity vector at a point from the three staggered components (w is 0 in 2D)."""
-    vx = sample(u, 0, x, y, z, h)
-    vy = sample(v, 1, x, y, z, h)
-    vz = sample(w, 2, x, y, z, h) if dim == 3 else 0.0
-    return vx, vy, vz
+    inv = 1.0 / h
+    return velocity_in_cells(u, v, w, dim, x * inv, y * inv, z * inv)
 
 
 @njit(cache=True)

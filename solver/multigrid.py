@@ -67,50 +67,57 @@ def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l,
         offy[c] = 0.0
         offz[c] = 0.0
         active[c] = False
-    sx, sy = ny * nz, nz
-    for i in range(nx):
-        ci = i // fx
-        inner_x = fx == 2 and (i & 1) == 0 and i + 1 < nx
-        outer_x = (fx == 1 or (i & 1) == 1) and i + 1 < nx
-        for j in range(ny):
-            cj = j // fy
-            inner_y = fy == 2 and (j & 1) == 0 and j + 1 < ny
-            outer_y = (fy == 1 or (j & 1) == 1) and j + 1 < ny
-            base = fo + (i * ny + j) * nz
-            cbase = co + (ci * cy + cj) * cz
-            for k in range(nz):
+    unx, uny, unz = np.uint64(nx), np.uint64(ny), np.uint64(nz)
+    ucy, ucz = np.uint64(cy), np.uint64(cz)
+    ufo, uco = np.uint64(fo), np.uint64(co)
+    hz = U1 if fz == 2 else U0
+    sx, sy = uny * unz, unz
+    for ii in range(nx):
+        i = np.uint64(ii)
+        ci = np.uint64(ii // fx)
+        inner_x = fx == 2 and (ii & 1) == 0 and ii + 1 < nx
+        outer_x = (fx == 1 or (ii & 1) == 1) and ii + 1 < nx
+        for jj in range(ny):
+            j = np.uint64(jj)
+            cj = np.uint64(jj // fy)
+            inner_y = fy == 2 and (jj & 1) == 0 and jj + 1 < ny
+            outer_y = (fy == 1 or (jj & 1) == 1) and jj + 1 < ny
+            base = ufo + (i * uny + j) * unz
+            cbase = uco + (ci * ucy + cj) * ucz
+            for kk in range(nz):
+                k = np.uint64(kk)
                 n = base + k
                 if not active[n]:
                     inv[n] = 0.0
                     continue
                 d = diag[n]
                 inv[n] = 1.0 / d if d > 0.0 else 0.0  # an entry cut off from every neighbour
-                c = cbase + k // fz
+                c = cbase + (k >> hz)
                 m = d
-                if i > 0:
+                if i > U0:
                     m += offx[n - sx]
-                if i < nx - 1:
+                if i + U1 < unx:
                     m += offx[n]
-                if j > 0:
+                if j > U0:
                     m += offy[n - sy]
-                if j < ny - 1:
+                if j + U1 < uny:
                     m += offy[n]
-                if k > 0:
-                    m += offz[n - 1]
-                if k < nz - 1:
+                if k > U0:
+                    m += offz[n - U1]
+                if k + U1 < unz:
                     m += offz[n]
                 lap = d - m
                 if inner_x:
                     lap += 2.0 * offx[n]
                 if inner_y:
                     lap += 2.0 * offy[n]
-                if fz == 2 and (k & 1) == 0 and k + 1 < nz:
+                if fz == 2 and (kk & 1) == 0 and kk + 1 < nz:
                     lap += 2.0 * offz[n]
                 if outer_x:
                     offx[c] += offx[n]
                 if outer_y:
                     offy[c] += offy[n]
-                if (fz == 1 or (k & 1) == 1) and k + 1 < nz:
+                if (fz == 1 or (kk & 1) == 1) and kk + 1 < nz:
                     offz[c] += offz[n]
                 diag[c] += lap
                 inv[c] += m
@@ -150,81 +157,123 @@ def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l,
                         offz[c - 1] = 0.0
 
 
+# The kernels below index with unsigned integers: numba then skips the wrap-around test that
+# every signed index costs (measured: a Gauss-Seidel pass 2.4x faster). An unsigned value must
+# never meet a signed one in arithmetic (numba would give a float), hence the U* constants. The
+# neighbour sum is written out in each kernel: as an inlined helper it ran 12x slower.
+U0 = np.uint64(0)
+U1 = np.uint64(1)
+U2 = np.uint64(2)
+
+
 @njit(cache=True, nogil=True)
-def _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, colour):
-    """One Gauss-Seidel pass over the cells of one colour (``(i + j + k) % 2``)."""
+def _sweep(inv, offx, offy, offz, o, shape, b, x, colour):
+    """One Gauss-Seidel pass over the cells of one colour (``(i + j + k) % 2``) of the level at
+    offset ``o`` with ``shape``. An entry that is no unknown has ``inv = 0`` and no couplings, so
+    it stays 0 without a test."""
+    nx, ny, nz = np.uint64(shape[0]), np.uint64(shape[1]), np.uint64(shape[2])
     sx, sy = ny * nz, nz
-    for i in range(nx):
-        for j in range(ny):
-            for k in range((i + j + colour) & 1, nz, 2):
-                n = o + (i * ny + j) * nz + k
-                if not active[n]:
-                    continue
+    uo = np.uint64(o)
+    for ii in range(shape[0]):
+        i = np.uint64(ii)
+        for jj in range(shape[1]):
+            j = np.uint64(jj)
+            base = uo + (i * ny + j) * nz
+            k = np.uint64((ii + jj + colour) & 1)
+            while k < nz:
+                n = base + k
                 s = b[n]
-                if i > 0:
+                if i > U0:
                     s -= offx[n - sx] * x[n - sx]
-                if i < nx - 1:
+                if i + U1 < nx:
                     s -= offx[n] * x[n + sx]
-                if j > 0:
+                if j > U0:
                     s -= offy[n - sy] * x[n - sy]
-                if j < ny - 1:
+                if j + U1 < ny:
                     s -= offy[n] * x[n + sy]
-                if k > 0:
-                    s -= offz[n - 1] * x[n - 1]
-                if k < nz - 1:
-                    s -= offz[n] * x[n + 1]
+                if k > U0:
+                    s -= offz[n - U1] * x[n - U1]
+                if k + U1 < nz:
+                    s -= offz[n] * x[n + U1]
                 x[n] = s * inv[n]
+                k += U2
 
 
 @njit(cache=True, nogil=True)
 def _residual_restrict(diag, offx, offy, offz, active, shapes, starts, level, b, x):
-    """Restrict ``b - A x`` of ``level`` into ``b`` of ``level + 1`` (sum over children)."""
-    nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
-    cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
-    o, co = starts[level], starts[level + 1]
-    fx = 2 if cx < nx else 1
-    fy = 2 if cy < ny else 1
-    fz = 2 if cz < nz else 1
+    """Restrict ``b - A x`` of ``level`` into ``b`` of ``level + 1`` (sum over the children that
+    are unknowns)."""
+    nx, ny, nz = (
+        np.uint64(shapes[level, 0]),
+        np.uint64(shapes[level, 1]),
+        np.uint64(shapes[level, 2]),
+    )
+    cx, cy, cz = (
+        np.uint64(shapes[level + 1, 0]),
+        np.uint64(shapes[level + 1, 1]),
+        np.uint64(shapes[level + 1, 2]),
+    )
+    o, co = np.uint64(starts[level]), np.uint64(starts[level + 1])
+    # halving shifts (1 where an axis is coarsened): no integer division in the loops
+    hx = U1 if cx < nx else U0
+    hy = U1 if cy < ny else U0
+    hz = U1 if cz < nz else U0
     sx, sy = ny * nz, nz
-    for c in range(co, co + cx * cy * cz):
+    for c in range(
+        starts[level + 1],
+        starts[level + 1] + shapes[level + 1, 0] * shapes[level + 1, 1] * shapes[level + 1, 2],
+    ):
         b[c] = 0.0
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                n = o + (i * ny + j) * nz + k
-                if not active[n]:
-                    continue
-                s = b[n] - diag[n] * x[n]
-                if i > 0:
-                    s -= offx[n - sx] * x[n - sx]
-                if i < nx - 1:
-                    s -= offx[n] * x[n + sx]
-                if j > 0:
-                    s -= offy[n - sy] * x[n - sy]
-                if j < ny - 1:
-                    s -= offy[n] * x[n + sy]
-                if k > 0:
-                    s -= offz[n - 1] * x[n - 1]
-                if k < nz - 1:
-                    s -= offz[n] * x[n + 1]
-                b[co + ((i // fx) * cy + j // fy) * cz + k // fz] += s
+    for ii in range(shapes[level, 0]):
+        i = np.uint64(ii)
+        for jj in range(shapes[level, 1]):
+            j = np.uint64(jj)
+            base = o + (i * ny + j) * nz
+            cbase = co + ((i >> hx) * cy + (j >> hy)) * cz
+            for kk in range(shapes[level, 2]):
+                k = np.uint64(kk)
+                n = base + k
+                if active[n]:
+                    r = b[n] - diag[n] * x[n]
+                    if i > U0:
+                        r -= offx[n - sx] * x[n - sx]
+                    if i + U1 < nx:
+                        r -= offx[n] * x[n + sx]
+                    if j > U0:
+                        r -= offy[n - sy] * x[n - sy]
+                    if j + U1 < ny:
+                        r -= offy[n] * x[n + sy]
+                    if k > U0:
+                        r -= offz[n - U1] * x[n - U1]
+                    if k + U1 < nz:
+                        r -= offz[n] * x[n + U1]
+                    b[cbase + (k >> hz)] += r
 
 
 @njit(cache=True, nogil=True)
-def _prolong_add(active, shapes, starts, level, x):
-    """Add the correction of ``level + 1`` to every unknown of ``level`` (constant per child)."""
-    nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
-    cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
-    o, co = starts[level], starts[level + 1]
-    fx = 2 if cx < nx else 1
-    fy = 2 if cy < ny else 1
-    fz = 2 if cz < nz else 1
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                n = o + (i * ny + j) * nz + k
-                if active[n]:
-                    x[n] += x[co + ((i // fx) * cy + j // fy) * cz + k // fz]
+def _prolong_add(shapes, starts, level, x):
+    """Add the correction of ``level + 1`` to every entry of ``level`` (constant per child; an
+    entry that is no unknown is overwritten with 0 by the next sweep)."""
+    ny, nz = np.uint64(shapes[level, 1]), np.uint64(shapes[level, 2])
+    cx, cy, cz = (
+        np.uint64(shapes[level + 1, 0]),
+        np.uint64(shapes[level + 1, 1]),
+        np.uint64(shapes[level + 1, 2]),
+    )
+    nx = np.uint64(shapes[level, 0])
+    o, co = np.uint64(starts[level]), np.uint64(starts[level + 1])
+    hx = U1 if cx < nx else U0
+    hy = U1 if cy < ny else U0
+    hz = U1 if cz < nz else U0
+    for ii in range(shapes[level, 0]):
+        i = np.uint64(ii)
+        for jj in range(shapes[level, 1]):
+            j = np.uint64(jj)
+            base = o + (i * ny + j) * nz
+            cbase = co + ((i >> hx) * cy + (j >> hy)) * cz
+            for kk in range(shapes[level, 2]):
+                k = np.uint64(kk)
+                x[base + k] += x[cbase + (k >> hz)]
 
 
 @njit(cache=True, nogil=True)
@@ -234,59 +283,58 @@ def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x):
     size0 = r.size
     for n in range(size0):
         b[n] = r[n]
-    for lev in range(levels):
-        o = starts[lev]
-        for n in range(o, o + shapes[lev, 0] * shapes[lev, 1] * shapes[lev, 2]):
-            x[n] = 0.0
+    for n in range(x.size):
+        x[n] = 0.0
     for lev in range(levels - 1):
-        nx, ny, nz, o = shapes[lev, 0], shapes[lev, 1], shapes[lev, 2], starts[lev]
+        o, shape = starts[lev], shapes[lev]
         for _ in range(PRE_SMOOTH):
-            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
-            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+            _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
+            _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
         _residual_restrict(diag, offx, offy, offz, active, shapes, starts, lev, b, x)
-    last = levels - 1
-    nx, ny, nz, o = shapes[last, 0], shapes[last, 1], shapes[last, 2], starts[last]
+    o, shape = starts[levels - 1], shapes[levels - 1]
     for _ in range(COARSEST_SWEEPS):
-        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
-        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
+        _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
+        _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
     for _ in range(COARSEST_SWEEPS):
-        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
-        _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+        _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
+        _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
     for lev in range(levels - 2, -1, -1):
-        nx, ny, nz, o = shapes[lev, 0], shapes[lev, 1], shapes[lev, 2], starts[lev]
-        _prolong_add(active, shapes, starts, lev, x)
+        o, shape = starts[lev], shapes[lev]
+        _prolong_add(shapes, starts, lev, x)
         for _ in range(PRE_SMOOTH):
-            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 1)
-            _sweep(inv, offx, offy, offz, active, o, nx, ny, nz, b, x, 0)
+            _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
+            _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
     for n in range(size0):
         z[n] = x[n] if active[n] else 0.0
 
 
 @njit(cache=True, nogil=True)
-def _apply(diag, offx, offy, offz, active, nx, ny, nz, x, out):
+def _apply(diag, offx, offy, offz, active, shape, x, out):
     """out = A x on the finest level (0 off ``active``)."""
+    nx, ny, nz = np.uint64(shape[0]), np.uint64(shape[1]), np.uint64(shape[2])
     sx, sy = ny * nz, nz
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                n = (i * ny + j) * nz + k
-                if not active[n]:
-                    out[n] = 0.0
-                    continue
+    for ii in range(shape[0]):
+        i = np.uint64(ii)
+        for jj in range(shape[1]):
+            j = np.uint64(jj)
+            base = (i * ny + j) * nz
+            for kk in range(shape[2]):
+                k = np.uint64(kk)
+                n = base + k
                 s = diag[n] * x[n]
-                if i > 0:
+                if i > U0:
                     s += offx[n - sx] * x[n - sx]
-                if i < nx - 1:
+                if i + U1 < nx:
                     s += offx[n] * x[n + sx]
-                if j > 0:
+                if j > U0:
                     s += offy[n - sy] * x[n - sy]
-                if j < ny - 1:
+                if j + U1 < ny:
                     s += offy[n] * x[n + sy]
-                if k > 0:
-                    s += offz[n - 1] * x[n - 1]
-                if k < nz - 1:
-                    s += offz[n] * x[n + 1]
-                out[n] = s
+                if k > U0:
+                    s += offz[n - U1] * x[n - U1]
+                if k + U1 < nz:
+                    s += offz[n] * x[n + U1]
+                out[n] = s if active[n] else 0.0
 
 
 @njit(cache=True, nogil=True)
@@ -307,7 +355,6 @@ def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol
     occupies the first ``bvec.size`` entries of the packed arrays); ``work`` is (6, packed
     size) scratch. Returns (iterations, relative residual)."""
     size = bvec.size
-    nx, ny, nz = shapes[0, 0], shapes[0, 1], shapes[0, 2]
     r, s, q, z, vb, vx = work[0], work[1], work[2], work[3], work[4], work[5]
     bnorm = 0.0
     for n in range(size):
@@ -318,7 +365,7 @@ def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol
             if active[n]:
                 x[n] = 0.0
         return 0, 0.0
-    _apply(diag, offx, offy, offz, active, nx, ny, nz, x, q)
+    _apply(diag, offx, offy, offz, active, shapes[0], x, q)
     rr = 0.0
     for n in range(size):
         r[n] = bvec[n] - q[n] if active[n] else 0.0
@@ -334,7 +381,7 @@ def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol
     it = 0
     while it < max_iter:
         it += 1
-        _apply(diag, offx, offy, offz, active, nx, ny, nz, s, q)
+        _apply(diag, offx, offy, offz, active, shapes[0], s, q)
         denom = 0.0
         for n in range(size):
             denom += q[n] * s[n]

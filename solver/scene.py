@@ -23,7 +23,12 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
-from solver.solver_settings import BOUNDARY_METHODS, PRECONDITIONERS, PRESSURE_SCHEMES
+from solver.solver_settings import (
+    BOUNDARY_METHODS,
+    PRECONDITIONERS,
+    PRESSURE_SCHEMES,
+    VISCOSITY_PRECONDITIONERS,
+)
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000
@@ -316,7 +321,7 @@ def _settings(t: Table) -> SolverSettings:
         viscosity_preconditioner=t.string(
             "viscosity_preconditioner",
             SolverSettings.viscosity_preconditioner,
-            choices=list(PRECONDITIONERS),
+            choices=list(VISCOSITY_PRECONDITIONERS),
         ),
     )
     t.finish()

@@ -31,13 +31,14 @@ from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.multigrid import DIFFUSION_SCALES, Multigrid
-from solver.pcg import LinearSolve, SolveReport, solve
+from solver.pcg import LinearSolve, SolveReport, solve, solve_jacobi
 from solver.probes import Probe
 from solver.projection import divergence_sum, project, subtract_gradient
 from solver.solver_settings import (
     BOUNDARY_METHODS,
     PRECONDITIONERS,
     PRESSURE_SCHEMES,
+    VISCOSITY_PRECONDITIONERS,
     SolverSettings,
 )
 from solver.stress import stress_integral
@@ -129,16 +130,13 @@ class Simulation:
             raise ValueError(f"boundary_method must be one of {BOUNDARY_METHODS}")
         if self.settings.pressure_scheme not in PRESSURE_SCHEMES:
             raise ValueError(f"pressure_scheme must be one of {PRESSURE_SCHEMES}")
-        for knob in ("preconditioner", "viscosity_preconditioner"):
-            if getattr(self.settings, knob) not in PRECONDITIONERS:
-                raise ValueError(f"{knob} must be one of {PRECONDITIONERS}")
+        if self.settings.preconditioner not in PRECONDITIONERS:
+            raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
+        if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
+            raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
         self._pressure_solve = _linear_solver(self.settings.preconditioner, grid.cells, grid.dim)
-        self._viscosity_solves = [
-            _linear_solver(self.settings.viscosity_preconditioner, grid.face_shape(a), grid.dim,
-                           DIFFUSION_SCALES)
-            for a in range(grid.dim)
-        ]  # fmt: skip
+        self._viscosity_solves: dict[str, list[LinearSolve]] = {}
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
         self._was_active = np.zeros(grid.cells, dtype=np.bool_)
         self.static_solid = (
@@ -250,6 +248,8 @@ class Simulation:
         centre, vel, omega, _ = self.rigid_motion()
         rigid = np.stack([centre, vel, omega])
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
+        coupling = 2 * g.dim * float(self.viscosity_pa_s.max()) * dt_s / (rho * h * h)
+        solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
         if self.cut is not None:
             cut = self.cut
             return tuple(
@@ -271,7 +271,7 @@ class Simulation:
                     cfg.viscosity_tolerance,
                     cfg.max_iterations,
                     self.drag_per_s,
-                    self._viscosity_solves[a],
+                    solves[a],
                 )
                 for a in range(g.dim)
             )
@@ -292,10 +292,21 @@ class Simulation:
                 cfg.viscosity_tolerance,
                 cfg.max_iterations,
                 self.drag_per_s,
-                self._viscosity_solves[a],
+                solves[a],
             )
             for a in range(g.dim)
         )
+
+    def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
+        """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its
+        hierarchy from step to step)."""
+        if name not in self._viscosity_solves:
+            g = self.grid
+            self._viscosity_solves[name] = [
+                _linear_solver(name, g.face_shape(a), g.dim, DIFFUSION_SCALES)
+                for a in range(g.dim)
+            ]
+        return self._viscosity_solves[name]
 
     # -- fields the caller may set ---------------------------------------------------------------
     def set_viscosity(self, mu_pa_s: np.ndarray) -> None:
@@ -581,5 +592,7 @@ def _linear_solver(
     once; the grid's shape never changes), or MIC(0)-PCG."""
     if name == "mic0":
         return solve
+    if name == "jacobi":
+        return solve_jacobi
     mg = Multigrid(shape, dim) if scales is None else Multigrid(shape, dim, scales)
     return mg.solve

@@ -21,11 +21,12 @@ class SolverSettings:
     non-incremental projection) or ``auto`` (incremental with cut cells, chorin with the
     staircase).
 
-    ``preconditioner`` (pressure solve) and ``viscosity_preconditioner`` (implicit viscosity):
-    ``multigrid`` (MGPCG: a geometric V-cycle built from the assembled matrix) or ``mic0``
-    (modified incomplete Cholesky, the paper's choice). The defaults are the faster of the two
-    on the benchmarks: multigrid for the pressure; MIC(0) for viscosity, whose systems are
-    diagonally dominant unless the viscosity is high (thick paint), where multigrid pays."""
+    ``preconditioner`` (pressure solve): ``multigrid`` (MGPCG: a geometric V-cycle built from
+    the assembled matrix) or ``mic0`` (modified incomplete Cholesky, the paper's choice).
+    ``viscosity_preconditioner``: the same two, ``jacobi`` (the diagonal), or ``auto``: per step,
+    the diagonal while the system is strongly diagonally dominant (``2 dim nu_max dt / h^2 <=
+    JACOBI_LIMIT``), multigrid above (thick paint). The defaults are the fastest on the
+    benchmarks (``benchmarks/bench_solver.py``, ``paintapp bench``)."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -38,7 +39,14 @@ class SolverSettings:
     boundary_method: str = "staircase"
     pressure_scheme: str = "auto"
     preconditioner: str = "multigrid"
-    viscosity_preconditioner: str = "mic0"
+    viscosity_preconditioner: str = "auto"
+
+    def viscosity_solver(self, coupling: float) -> str:
+        """The viscosity preconditioner for a step whose largest ``2 dim nu dt / h^2`` is
+        ``coupling``."""
+        if self.viscosity_preconditioner != "auto":
+            return self.viscosity_preconditioner
+        return "jacobi" if coupling <= JACOBI_LIMIT else "multigrid"
 
     @property
     def incremental_pressure(self) -> bool:
@@ -48,6 +56,8 @@ class SolverSettings:
         return self.pressure_scheme == "incremental"
 
 
+JACOBI_LIMIT = 2.0
 BOUNDARY_METHODS = ("cutcell", "staircase")
 PRESSURE_SCHEMES = ("auto", "incremental", "chorin")
 PRECONDITIONERS = ("multigrid", "mic0")
+VISCOSITY_PRECONDITIONERS = ("auto", "jacobi", "multigrid", "mic0")
