@@ -414,9 +414,7 @@ class Multigrid:
 
     ``scales`` = (Laplacian part, row-sum part) of the coarse operators: ``PRESSURE_SCALES`` for
     the Poisson matrix, ``DIFFUSION_SCALES`` for an implicit viscosity solve (its identity term
-    is a mass, which aggregation sums exactly). A 2D system (one cell deep) is handled as an
-    array of shape (1, nx, ny), the same memory, so that the kernels' innermost loop runs along
-    the grid's rows."""
+    is a mass, which aggregation sums exactly)."""
 
     def __init__(
         self,
@@ -426,7 +424,11 @@ class Multigrid:
     ) -> None:
         self.shape = tuple(int(c) for c in shape)
         self.dim = dim
-        inner = (1, self.shape[0], self.shape[1]) if dim == 2 else self.shape
+        # the kernels see the axes shortest first, so that their innermost loop runs along the
+        # longest axis (a 2D grid, one cell deep, becomes (1, nx, ny))
+        self.perm = tuple(int(a) for a in np.argsort(self.shape, kind="stable"))
+        self.unperm = tuple(int(a) for a in np.argsort(self.perm))
+        inner = tuple(self.shape[a] for a in self.perm)
         shapes = level_shapes(inner)  # type: ignore[arg-type]
         sizes = [int(np.prod(s)) for s in shapes]
         self.shapes = np.array(shapes, dtype=np.int64)
@@ -448,17 +450,13 @@ class Multigrid:
         if tuple(system.diag.shape) != self.shape or system.dim != self.dim:
             raise ValueError(f"system shape {system.diag.shape} does not match {self.shape}")
         n = system.diag.size
-        self.diag[:n] = system.diag.reshape(-1)
-        # in 2D the kernels' axes (0, 1, 2) are the grid's (none, x, y)
-        axes = (None, 0, 1) if self.dim == 2 else (0, 1, 2)
-        for a, src in enumerate(axes):
-            if src is None:
-                self.off[a][:n] = 0.0
-            else:
-                self.off[a][:n] = system.off[src].reshape(-1)
+        self.diag[:n] = self._inner(system.diag)
+        for a in range(3):
+            self.off[a][:n] = self._inner(system.off[self.perm[a]])
+        active = self._inner(system.active)
         # an entry cut off from every neighbour (a fluid cell walled in by solid) has a zero row:
         # it is no unknown
-        np.logical_and(system.active.reshape(-1), self.diag[:n] > 0.0, out=self.active[:n])
+        np.logical_and(active, self.diag[:n] > 0.0, out=self.active[:n])
         build_levels(self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
                      self.scales)  # fmt: skip
 
@@ -468,7 +466,7 @@ class Multigrid:
         """Solve ``system`` x = ``b`` in place in ``x`` (warm start), as :func:`solver.pcg.solve`;
         active entries with a zero row are left as they are and out of the residual."""
         self.load(system)
-        flat_x = x.reshape(-1)
+        flat_x = np.ascontiguousarray(self._inner(x))
         it, res = mgpcg_flat(
             self.diag,
             self.off[0],
@@ -478,12 +476,18 @@ class Multigrid:
             self.inv,
             self.shapes,
             self.starts,
-            np.ascontiguousarray(b).reshape(-1),
+            np.ascontiguousarray(self._inner(b)),
             flat_x,
             tol,
             max_iter,
             self.work,
         )
         if not np.shares_memory(flat_x, x):
-            x[...] = flat_x.reshape(x.shape)
+            inner = tuple(int(c) for c in self.shapes[0])
+            x[...] = flat_x.reshape(inner).transpose(self.unperm)
         return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
+
+    def _inner(self, a: np.ndarray) -> np.ndarray:
+        """``a`` (grid order) flattened in the kernels' axis order (a view when that is the
+        same)."""
+        return a.transpose(self.perm).reshape(-1)

@@ -259,10 +259,10 @@ def solve_jacobi(
     """As :func:`solve`, preconditioned by the diagonal (:func:`jacobi_pcg_flat`)."""
     _nx, ny, nz = b.shape
     strides = (ny * nz, nz, 1 if system.dim == 3 else 0)
-    flat = [a.reshape(-1) for a in (system.diag, *system.off)]
+    diag, (ox, oy, oz) = system.diag.reshape(-1), (o.reshape(-1) for o in system.off)
     xf = x.reshape(-1)
-    it, res = jacobi_pcg_flat(*flat, system.active.reshape(-1), strides, b.reshape(-1), xf, tol,
-                              max_iter)  # fmt: skip
+    it, res = jacobi_pcg_flat(diag, ox, oy, oz, system.active.reshape(-1), strides,
+                              b.reshape(-1), xf, tol, max_iter)  # fmt: skip
     return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
 
 

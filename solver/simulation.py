@@ -303,8 +303,7 @@ class Simulation:
         if name not in self._viscosity_solves:
             g = self.grid
             self._viscosity_solves[name] = [
-                _linear_solver(name, g.face_shape(a), g.dim, DIFFUSION_SCALES)
-                for a in range(g.dim)
+                _linear_solver(name, g.face_shape(a), g.dim, DIFFUSION_SCALES) for a in range(g.dim)
             ]
         return self._viscosity_solves[name]
 

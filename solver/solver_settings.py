@@ -25,8 +25,9 @@ class SolverSettings:
     the assembled matrix) or ``mic0`` (modified incomplete Cholesky, the paper's choice).
     ``viscosity_preconditioner``: the same two, ``jacobi`` (the diagonal), or ``auto``: per step,
     the diagonal while the system is strongly diagonally dominant (``2 dim nu_max dt / h^2 <=
-    JACOBI_LIMIT``), multigrid above (thick paint). The defaults are the fastest on the
-    benchmarks (``benchmarks/bench_solver.py``, ``paintapp bench``)."""
+    JACOBI_LIMIT``), MIC(0) above (thick paint: there a V-cycle costs more than the iterations
+    it saves). The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
+    ``paintapp bench``)."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -46,7 +47,7 @@ class SolverSettings:
         ``coupling``."""
         if self.viscosity_preconditioner != "auto":
             return self.viscosity_preconditioner
-        return "jacobi" if coupling <= JACOBI_LIMIT else "multigrid"
+        return "jacobi" if coupling <= JACOBI_LIMIT else "mic0"
 
     @property
     def incremental_pressure(self) -> bool:

@@ -20,6 +20,16 @@ import numpy as np
 from solver.simulation import Simulation, StepStats
 
 MIB = 1024.0 * 1024.0
+#: The knobs of a benchmark setting that are solver settings (the scene's ``[solver]`` table).
+SOLVER_KEYS = (
+    "advection",
+    "pressure_tolerance",
+    "max_iterations",
+    "force_model",
+    "boundary_method",
+    "preconditioner",
+    "viscosity_preconditioner",
+)
 
 
 @dataclass

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from paintapp.bench.measure import Measurement, step_cost
+from paintapp.bench.measure import SOLVER_KEYS, Measurement, step_cost
 from paintapp.resources import asset_path
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
@@ -50,8 +50,7 @@ def _scene_data(file: str, solver: dict[str, Any], cells: list[int], dt_s: float
 
 
 def _solver_keys(knobs: dict[str, Any]) -> dict[str, Any]:
-    keys = ("advection", "pressure_tolerance", "max_iterations", "force_model", "boundary_method")
-    return {k: knobs[k] for k in keys if k in knobs}
+    return {k: knobs[k] for k in SOLVER_KEYS if k in knobs}
 
 
 def _run(sim: Simulation, dt_s: float, steps: int) -> list:

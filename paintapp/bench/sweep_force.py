@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from paintapp.bench.measure import Measurement, step_cost
+from paintapp.bench.measure import SOLVER_KEYS, Measurement, step_cost
 from paintapp.bench.noise import relative_deviation, smooth
 from paintapp.bench.square_sweep import (
     MOTION_END_S,
@@ -28,13 +28,6 @@ from paintapp.bench.square_sweep import (
 )
 
 _CACHE: dict[tuple, tuple[SweepTrace, dict[str, Any]]] = {}
-SOLVER_KEYS = (
-    "advection",
-    "pressure_tolerance",
-    "max_iterations",
-    "force_model",
-    "boundary_method",
-)
 
 
 def traced_sweep(

@@ -91,6 +91,13 @@ def test_bundled_scenes_load():
             "probes[0].path",
             "increase",
         ),
+        ("[run]", '[solver]\npreconditioner = "ilu"\n\n[run]', "solver.preconditioner", "mic0"),
+        (
+            "[run]",
+            '[solver]\nviscosity_preconditioner = "lu"\n\n[run]',
+            "solver.viscosity_preconditioner",
+            "jacobi",
+        ),
     ],
 )
 def test_malformed_scene_names_key_and_expectation(tmp_path, old, new, key, expected):
