@@ -9,6 +9,7 @@ boundary velocities describe.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -148,16 +149,18 @@ class Probe:
         """Cells whose centre lies inside the probe: a window of the grid and a mask over it."""
         h = grid.cell_size_m
         d = self.dim
+        reach = self.shape.bounding_radius_m
         lo_idx, hi_idx = [], []
         for a in range(3):
             if a >= d:
                 lo_idx.append(0)
                 hi_idx.append(grid.cells[a])
                 continue
-            lo = (self.centre_m[a] - self.shape.bounding_radius_m - grid.origin_m[a]) / h - 1
-            hi = (self.centre_m[a] + self.shape.bounding_radius_m - grid.origin_m[a]) / h + 1
-            lo_idx.append(int(np.clip(np.floor(lo), 0, grid.cells[a])))
-            hi_idx.append(int(np.clip(np.ceil(hi), 0, grid.cells[a])))
+            rel = float(self.centre_m[a]) - grid.origin_m[a]
+            lo = math.floor((rel - reach) / h - 1.0)
+            hi = math.ceil((rel + reach) / h + 1.0)
+            lo_idx.append(min(max(lo, 0), grid.cells[a]))
+            hi_idx.append(min(max(hi, 0), grid.cells[a]))
         window = tuple(slice(lo_idx[a], hi_idx[a]) for a in range(3))
         axes = [grid.origin_m[a] + (np.arange(lo_idx[a], hi_idx[a]) + 0.5) * h for a in range(d)]
         if any(len(ax) == 0 for ax in axes):
@@ -166,5 +169,7 @@ class Probe:
         body = (pts - self.centre_m) @ self.rotation_matrix()
         inside = self.shape.sdf(body) <= 0.0
         if d == 2:
-            inside = np.repeat(inside[:, :, None], grid.cells[2], axis=2)
+            inside = inside[:, :, None]
+            if grid.cells[2] > 1:
+                inside = np.repeat(inside, grid.cells[2], axis=2)
         return window, inside

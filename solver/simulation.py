@@ -196,7 +196,7 @@ class Simulation:
         phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
         if system is not None and self.cut is not None:
             report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
-                                 self.cut.owner_face, np.stack(self.rigid_motion()[:3]),
+                                 self.cut.owner_face, np.stack(self._motion[:3]),
                                  g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
                                  cfg.max_iterations, self._pressure_solve)  # fmt: skip
         else:
@@ -245,7 +245,7 @@ class Simulation:
         if not np.any(self.viscosity_pa_s > 0.0) and self.drag_per_s is None:
             return ()  # inviscid: no viscosity solve at all
         g, st, cfg = self.grid, self.state, self.settings
-        centre, vel, omega, _ = self.rigid_motion()
+        centre, vel, omega, _ = self._motion
         rigid = np.stack([centre, vel, omega])
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
         coupling = 2 * g.dim * float(self.viscosity_pa_s.max()) * dt_s / (rho * h * h)
@@ -351,6 +351,7 @@ class Simulation:
 
     # -- geometry and boundaries -------------------------------------------------------------
     def _rasterize(self) -> None:
+        self._motion = self.rigid_motion()
         label = self.state.label
         label[:] = FLUID
         label[self.static_solid] = STATIC_SOLID
@@ -378,7 +379,7 @@ class Simulation:
 
     def _apply_boundaries(self) -> None:
         g, st = self.grid, self.state
-        centre, vel, omega, _ = self.rigid_motion()
+        centre, vel, omega, _ = self._motion
         rigid = np.stack([centre, vel, omega])
         for a in range(g.dim):
             open_lo = bool(self._kinds[a, 0] == 3)
@@ -422,7 +423,7 @@ class Simulation:
         if self.settings.force_model in ("drag", "viscous_drag"):
             self._approximate_forces()
             return
-        centre, vel, omega, ref = self.rigid_motion()
+        centre, vel, omega, ref = self._motion
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
         comps = st.comps
@@ -453,7 +454,7 @@ class Simulation:
             return
         lo = np.min([w[0] for w in cut.windows], axis=0)
         hi = np.max([w[1] for w in cut.windows], axis=0)
-        centre, vel, omega, _ = self.rigid_motion()
+        centre, vel, omega, _ = self._motion
         active = self._was_active if self.settings.incremental_pressure else None
         if active is None or active.shape != g.cells:
             active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
