@@ -130,6 +130,7 @@ class SimulatedDevice:
         self.max_force_written_n = 0.0
         self.nonfinite_writes = 0
         self._t_s = self._t0_s = 0.0
+        self._started = False
         self._x = np.zeros(3)
         self._v = np.zeros(3)
         self._theta = np.zeros(3)
@@ -142,6 +143,7 @@ class SimulatedDevice:
         return self._info
 
     def open(self) -> None:
+        self._started = False
         self._t_s = self._t0_s = self.time_source()
         self._x, _ = self.target(0.0)
         self._x = np.array(self._x, dtype=np.float64)
@@ -156,7 +158,7 @@ class SimulatedDevice:
 
     def _substep(self, t_s: float, h: float) -> None:
         p = self.hand
-        xt, vt = self.target(t_s)
+        xt, vt = self.target(t_s - self._t0_s)  # the target's time counts from open()
         acc = p.stiffness_n_per_m * (xt - self._x) + p.damping_ns_per_m * (vt - self._v)
         self._v = self._v + h * (acc + self._force) / p.mass_kg
         self._x = self._x + h * self._v
@@ -188,7 +190,13 @@ class SimulatedDevice:
     def read(self) -> DeviceState:
         if not self.is_open:
             raise DeviceError("simulated device is not open")
-        self.advance(self.time_source())
+        now = self.time_source()
+        if not self._started:
+            # the hand starts moving at the first read: the time a loop spends setting up after
+            # opening the device must not carry the stroke past its approach
+            self._started = True
+            self._t_s = self._t0_s = now
+        self.advance(now)
         return DeviceState(self._t_s, self._x.copy(), self.orientation_wxyz())
 
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:

@@ -186,3 +186,32 @@ def test_force_scale_can_change_while_the_loop_runs() -> None:
     force, torque = dev.writes[-1]
     np.testing.assert_allclose(force, [0.5, 0.0, 0.0], rtol=1e-9)
     np.testing.assert_allclose(torque, [0.0, 0.0, 0.05], rtol=1e-9)
+
+
+def test_the_simulated_stroke_starts_at_its_first_read_whatever_the_setup_time() -> None:
+    """A loop may spend a while after opening the device (building its filter); the simulated
+    hand must still start at the stroke's hover point, or it would already press into the canvas
+    and the safety stage would never engage (a servo process then wrote no force at all)."""
+    now = [1000.0]  # a clock that does not start at 0
+    device = SimulatedDevice(lambda: now[0])
+    device.open()
+    now[0] += 2.0  # setup time: longer than the stroke's approach
+    first = device.read()
+    assert first.position_m[2] > 0.009  # at the hover height, above the canvas
+    for _ in range(400):
+        now[0] += 1e-3
+        last = device.read()
+    assert last.position_m[2] < 0.0  # the approach then brings it down into the paint
+
+
+def test_a_loop_on_the_simulated_stroke_engages_and_writes_force() -> None:
+    now = [50.0]
+    device = SimulatedDevice(lambda: now[0])
+    loop = ServoLoop(device)
+    loop.open()
+    now[0] += 1.5  # a slow start
+    for _ in range(2000):
+        loop.tick(now[0])
+        now[0] += 1e-3
+    assert loop.safety.state.value == "engaged"
+    assert device.max_force_written_n > 0.2  # the canvas pushes back on the pressed tip
