@@ -9,11 +9,11 @@ from paintapp.app.haptic_link import DeviceSpec
 from paintapp.app.recovery import default_recovery_dir
 from paintapp.app.settings import PaintSettings
 from paintapp.canvas.model import Canvas
+from paintapp.canvas.sizes import canvas_size
 from paintapp.paint.paint_scene import PaintScene
 
-#: A new canvas: pixels and metres (0.25 mm texels, as the demo's).
-DEFAULT_PIXELS = (720, 480)
-DEFAULT_SIZE_M = (0.18, 0.12)
+#: A new canvas: pixels and metres (A4 portrait at 0.1 mm texels: 2100 x 2970).
+DEFAULT_PIXELS, DEFAULT_SIZE_M = canvas_size()
 
 
 @dataclass(frozen=True)

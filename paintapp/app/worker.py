@@ -281,13 +281,16 @@ class SimulationWorker(threading.Thread):
     def _check_device(self) -> None:
         if self.link is None or self._fault is not None or self.link.fault is None:
             return
-        self._fault = self.link.fault
+        fault = self.link.fault
         t = self.session_time()
-        self.journal.marker(t, f"device fault: {self._fault}")
+        self.journal.marker(t, f"device fault: {fault}")
         last = self.session.tracker.last
         xy = last.position_m[:2] if last is not None else np.zeros(2)
         self._step(StylusSample(t, np.array([xy[0], xy[1], 0.01]), 0.0))  # lift the brush
         self.end_stroke()
+        # The status shows the fault only now, with the stroke it cut short already committed
+        # (on a large canvas the commit takes a while; a status in between showed neither).
+        self._fault = fault
         self.input_kind = "tablet"
         self.rebuild()
         self.journal.start(self.header())

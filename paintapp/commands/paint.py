@@ -1,10 +1,11 @@
 """``paintapp paint [CANVAS.exr] [--device sim|hid:VID:PID|none] [--scene SCENE.toml]
-[--record S.jsonl]``: the interactive painting window.
+[--record S.jsonl] [--canvas-size a4|WxH] [--texel-mm MM]``: the interactive painting window.
 
 Paint with a pen tablet (pressure, tilt, twist) or the mouse on a canvas of viscous paint,
 simulated live; with a haptic device (``--device``) the brush is steered by the device and its
 force reaches the hand through the 1 kHz servo loop (``sim`` is a simulated hand that follows the
-pointer). Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
+pointer). A new canvas is A4 at 0.1 mm texels unless ``--canvas-size`` and ``--texel-mm`` say
+otherwise. Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
 for crash recovery. Press F1 in the window for the keyboard shortcuts.
 """
 
@@ -37,6 +38,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--overwrite", action="store_true", help="allow --record to replace an existing file"
     )
+    parser.add_argument(
+        "--canvas-size",
+        default="a4",
+        metavar="a4|a5|a6[-landscape]|WxH",
+        help="size of a new canvas: a paper size or WxH millimetres (default a4)",
+    )
+    parser.add_argument(
+        "--texel-mm", type=float, default=0.1, metavar="MM", help="texel of a new canvas, mm"
+    )
     parser.add_argument("--brush", default="round_large", help="brush preset to start with")
     parser.add_argument("--model", choices=FLUID_MODELS, help="fluid model to start with")
     parser.add_argument("--force-scale", type=float, default=4.0, help="haptic force scale")
@@ -56,6 +66,7 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
     from paintapp.app.options import PaintOptions
     from paintapp.app.recovery import default_recovery_dir
     from paintapp.app.settings import PaintSettings, brush_names
+    from paintapp.canvas.sizes import canvas_size
 
     if args.brush not in brush_names():
         raise InputError(f"unknown brush {args.brush!r}; known: {', '.join(brush_names())}")
@@ -65,6 +76,7 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
         raise InputError("no such canvas file", source=str(args.canvas))
     if not 0.0 <= args.autosave <= 86400.0:
         raise InputError("expected an interval in [0, 86400] s", key="--autosave")
+    pixels, size_m = canvas_size(args.canvas_size, args.texel_mm)
     scene = load_paint_scene(args.scene) if args.scene else None
     model = args.model or (scene.fluid_model if scene else "grid3d")
     settings = PaintSettings(brush=args.brush, fluid_model=model, force_scale=args.force_scale)
@@ -78,6 +90,8 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
         autosave_s=args.autosave,
         recover=args.recover,
         settings=settings,
+        pixels=pixels,
+        size_m=size_m,
     )
 
 

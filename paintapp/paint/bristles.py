@@ -38,6 +38,8 @@ class BristleTexture:
         heading: (2,) direction of motion in the canvas plane (any length > 0).
         texel_m: canvas texel size (m).
         reach_m: how far beyond the footprint the texture reaches (one cell).
+        radius_m: the footprint's largest distance from the apex in the canvas plane (at most
+            the tip's lateral extent).
     """
 
     def __init__(
@@ -49,6 +51,7 @@ class BristleTexture:
         heading: np.ndarray,
         texel_m: float,
         reach_m: float,
+        radius_m: float,
     ) -> None:
         self.bristles = bristles
         self.footprint = footprint
@@ -59,6 +62,7 @@ class BristleTexture:
         self.across = np.array([-h[1], h[0]])
         self.texel_m = texel_m
         self.reach_m = reach_m
+        self.radius_m = radius_m
 
     def weights(self, box: Box) -> tuple[np.ndarray, np.ndarray] | None:
         """(gain, loss) weights (ny, nx) over the texels of ``box`` = (x0, y0, x1, y1), or None
@@ -70,7 +74,7 @@ class BristleTexture:
         dx = (np.arange(x0, x1) + 0.5) * t - c[0]
         dy = (np.arange(y0, y1) + 0.5) * t - c[1]
         gx, gy = np.meshgrid(dx, dy)  # (ny, nx)
-        radius = self.footprint.bounding_radius_m + self.reach_m
+        radius = self.radius_m + self.reach_m
         near = gx**2 + gy**2 <= radius**2
         if not near.any():
             return None

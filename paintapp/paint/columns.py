@@ -30,6 +30,7 @@ import math
 from typing import Protocol
 
 import numpy as np
+from scipy import sparse
 
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
@@ -145,11 +146,13 @@ class ColumnWindow:
         y0, y1 = max(0, oy + (j0 - 1) * k), min(h, oy + (j1 + 1) * k)
         return x0, y0, x1, y1
 
-    def _tents(self, r: tuple[int, int, int, int], box: tuple[int, int, int, int]):
-        """Tent weights of columns ``r`` over the texels of ``box``: (ni, nx_t), (nj, ny_t)."""
+    def _tents(
+        self, r: tuple[int, int, int, int], box: tuple[int, int, int, int]
+    ) -> tuple[Tent, Tent]:
+        """Tent weights of columns ``r`` over the texels of ``box``: x (ni, nx_t), y (nj, ny_t)."""
         return (
-            tent_weights(self.origin_texel[0], self.k, r[0], r[1], box[0], box[2]),
-            tent_weights(self.origin_texel[1], self.k, r[2], r[3], box[1], box[3]),
+            Tent(tent_weights(self.origin_texel[0], self.k, r[0], r[1], box[0], box[2])),
+            Tent(tent_weights(self.origin_texel[1], self.k, r[2], r[3], box[1], box[3])),
         )
 
     def _mobile(self, canvas: Canvas, box: tuple[int, int, int, int]):
@@ -173,27 +176,40 @@ class ColumnWindow:
         return out
 
     def write_back(
-        self, canvas: Canvas, delta_m: np.ndarray, texture: TexelWeights | None = None
+        self,
+        canvas: Canvas,
+        delta_m: np.ndarray,
+        texture: TexelWeights | None = None,
+        gathered: np.ndarray | None = None,
     ) -> None:
         """Apply a change of mobile paint per column, (P, nx, ny) metres, to the texels.
 
         ``texture`` (a brush's bristle texture, :mod:`paintapp.paint.bristles`) gives per-texel
-        gain and loss weights that shape where within its tent a column's change lands."""
+        gain and loss weights that shape where within its tent a column's change lands.
+        ``gathered`` is what :meth:`gather` returned for this canvas, unchanged since (a step
+        passes it on; otherwise it is gathered again): thin films are dropped column by column
+        first, so only the texels of columns whose change survives are read and written (the
+        transport's thin tails reach the whole grid)."""
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
             return
         delta = delta_m[:, r[0] : r[1], r[2] : r[3]]
-        changed = np.any(delta != 0.0, axis=0)
+        if not np.any(delta != 0.0):
+            return
+        columns = self.gather(canvas) if gathered is None else gathered
+        k2 = self.k**2
+        held = columns[:, r[0] : r[1], r[2] : r[3]] * k2
+        change = drop_thin_films(held, delta * k2, FILM_FLOOR_M * k2)
+        changed = np.any(change != 0.0, axis=0)
         if not changed.any():
             return
         ci, cj = np.nonzero(changed)
-        sub = (r[0] + ci.min(), r[0] + ci.max() + 1, r[2] + cj.min(), r[2] + cj.max() + 1)
-        delta = delta_m[:, sub[0] : sub[1], sub[2] : sub[3]]
+        a0, a1, b0, b1 = ci.min(), ci.max() + 1, cj.min(), cj.max() + 1
+        sub = (r[0] + a0, r[0] + a1, r[2] + b0, r[2] + b1)
+        change, owned = change[:, a0:a1, b0:b1], held[:, a0:a1, b0:b1]
         box = self._texel_block(sub)
         wx, wy = self._tents(sub, box)
         paint, wet, mobile = self._mobile(canvas, box)
-        owned = _to_columns(mobile, wx, wy)
-        change = drop_thin_films(owned, delta * self.k**2, FILM_FLOOR_M * self.k**2)
         shape = texture.weights(box) if texture is not None else None
         new_mobile, touched = _spread_change(mobile, owned, change, wx, wy, shape)
         if not touched.any():
@@ -217,14 +233,33 @@ def tent_weights(origin: int, k: int, i0: int, i1: int, t0: int, t1: int) -> np.
     return np.maximum(1.0 - np.abs(texels[None, :] - centres[:, None]) / k, 0.0)
 
 
-def _to_columns(texels: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
+class Tent:
+    """One axis's tent weights (columns, texels) as a sparse matrix: each texel has at most two
+    columns, so the transfers cost a few operations per texel, not one per column."""
+
+    def __init__(self, weights: np.ndarray) -> None:
+        self.matrix = sparse.csr_matrix(weights)
+        self.transposed = sparse.csr_matrix(weights.T)
+        self.shape = weights.shape
+        self.sums = np.asarray(self.matrix.sum(axis=1)).ravel()
+
+
+def _to_columns(texels: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
     """(P, ny_t, nx_t) texel values -> (P, ni, nj) tent-weighted sums (grid order: x first)."""
-    return (wy @ texels @ wx.T).transpose(0, 2, 1)
+    p, ny, nx = texels.shape
+    nj, ni = wy.shape[0], wx.shape[0]
+    a = wy.matrix @ texels.transpose(1, 0, 2).reshape(ny, p * nx)  # (nj, P nx)
+    a = np.ascontiguousarray(a.reshape(nj, p, nx).transpose(2, 1, 0)).reshape(nx, p * nj)
+    return (wx.matrix @ a).reshape(ni, p, nj).transpose(1, 0, 2)
 
 
-def _to_texels(columns: np.ndarray, wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
+def _to_texels(columns: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
     """(P, ni, nj) column values -> (P, ny_t, nx_t) tent-weighted sums over the columns."""
-    return wy.T @ columns.transpose(0, 2, 1) @ wx
+    p, ni, nj = columns.shape
+    nx, ny = wx.shape[1], wy.shape[1]
+    a = wx.transposed @ columns.transpose(1, 0, 2).reshape(ni, p * nj)  # (nx, P nj)
+    a = np.ascontiguousarray(a.reshape(nx, p, nj).transpose(2, 1, 0)).reshape(nj, p * nx)
+    return (wy.transposed @ a).reshape(ny, p, nx).transpose(1, 0, 2)
 
 
 def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.ndarray:
@@ -261,8 +296,8 @@ def _spread_change(
     mobile: np.ndarray,
     owned: np.ndarray,
     change: np.ndarray,
-    wx: np.ndarray,
-    wy: np.ndarray,
+    wx: Tent,
+    wy: Tent,
     shape: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """New mobile paint per texel (P, ny_t, nx_t) after column changes ``change`` (P, ni, nj,
@@ -281,7 +316,7 @@ def _spread_change(
     the tent sums of the columns' fractions, both at most 1, so again no texel loses more than
     it holds, and each column loses exactly its loss."""
     if shape is None:
-        support = np.outer(wx.sum(axis=1), wy.sum(axis=1))[None]  # (1, ni, nj)
+        support = np.outer(wx.sums, wy.sums)[None]  # (1, ni, nj)
         gain = np.maximum(change, 0.0) / support
         with np.errstate(invalid="ignore", divide="ignore"):
             fraction = np.where((change < 0.0) & (owned > 0.0), -change / owned, 0.0)

@@ -178,7 +178,9 @@ class PaintGridDepthAveraged(PaintModel):
             return PaintStep(step_ms=clock.total_ms)
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before)[..., 0]
-        self.window.write_back(self.canvas, delta, self.texture(pose, centre_m))
+        self.window.write_back(
+            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns
+        )
         clock.mark("write")
         force, torque = self._tip_force()
         return PaintStep(

@@ -146,7 +146,9 @@ class PaintGrid3D(PaintModel):
             return PaintStep(step_ms=clock.total_ms)
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before).sum(axis=3) * h
-        self.window.write_back(self.canvas, delta, self.texture(pose, centre_m))
+        self.window.write_back(
+            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns
+        )
         clock.mark("write")
         found = sim.forces.get(PROBE)
         force, torque = (

@@ -258,15 +258,17 @@ class PaintModel(ABC):
             return None
         h = self.cell_size_m
         depth = max(pose.press_depth_m + pose.compression_m, section_height_m(pose, h))
-        footprint = Section(self.preset.tip(pose.splay), depth)
+        tip = self.preset.tip(pose.splay)
+        lateral = max(tip.support(d) for d in np.vstack([np.eye(3)[:2], -np.eye(3)[:2]]))
         return BristleTexture(
             bristles,
-            footprint,
+            Section(tip, depth),
             np.asarray(centre_m, dtype=float)[:2],
             yaw_angle(pose.orientation),
             self.heading,
             self.window.texel_m,
             h,
+            math.sqrt(2.0) * lateral,
         )
 
     def wet_columns(self) -> np.ndarray:

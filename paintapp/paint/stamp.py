@@ -86,7 +86,9 @@ class StampModel(PaintModel):
         deposited = np.array([released.get(n, 0.0) for n in names])
         if deposited.sum() > 0.0:
             q += deposited[:, None, None] / area * (room / room.sum())[None]
-        self.window.write_back(self.canvas, q - columns, self.texture(pose, centre_m))
+        self.window.write_back(
+            self.canvas, q - columns, self.texture(pose, centre_m), gathered=columns
+        )
         report = ExchangeReport(
             swept_m3=float(under.sum()),
             picked_up_m3=float(sum(taken.values())),

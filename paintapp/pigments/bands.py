@@ -151,9 +151,14 @@ def canvas_linear_rgb(canvas: Canvas, table: BandTable, rows: slice = slice(None
     """
     paint = canvas.paint_m[:, rows].astype(np.float64)
     height = paint.sum(axis=0)
-    safe = np.where(height > 0.0, height, 1.0)
-    concentration = np.where(height > 0.0, paint / safe, 0.0)
-    return table.linear_rgb(concentration, height).astype(np.float32)
+    painted = height > 0.0
+    # Bare ground is one colour: only painted texels need the layer model.
+    out = np.empty((*height.shape, 3), np.float32)
+    out[...] = (table.ground @ table.band_to_rgb.T).astype(np.float32)
+    if painted.any():
+        mix = paint[:, painted] / height[painted]
+        out[painted] = table.linear_rgb(mix, height[painted]).astype(np.float32)
+    return out
 
 
 def mix_linear_rgb(

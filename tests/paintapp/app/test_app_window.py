@@ -15,6 +15,10 @@ from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import LoadPigment, Marker
 
 START_M, END_M = (0.05, 0.06), (0.13, 0.06)
+#: The journalling checks below compare the journal with a pointer moved at 50 Hz, which needs
+#: the worker to keep up (one step per event or so): a 0.25 mm canvas. The default A4 canvas at
+#: 0.1 mm has its own test (its steps are slower, so the worker takes fewer of the samples).
+FAST_CANVAS = {"pixels": (720, 480), "size_m": (0.18, 0.12)}
 
 
 def _options(tmp_path: Path, **kw) -> PaintOptions:
@@ -31,7 +35,7 @@ def _options(tmp_path: Path, **kw) -> PaintOptions:
 def window(qapp, pump, tmp_path):
     from paintapp.app.launch import create_window
 
-    _, win = create_window(_options(tmp_path), interactive=False)
+    _, win = create_window(_options(tmp_path, **FAST_CANVAS), interactive=False)
     assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
     yield win
     win.close()
@@ -119,6 +123,31 @@ def _region(image, x: int, y: int, w: int, h: int) -> np.ndarray:
         ],
         dtype=np.float64,
     )
+
+
+def test_the_default_canvas_is_a4_and_a_stroke_paints_where_it_went(qapp, pump, stroke, tmp_path):
+    from paintapp.app.launch import create_window
+
+    _, win = create_window(_options(tmp_path), interactive=False)
+    try:
+        assert pump(10.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
+        canvas = win.shared.canvas
+        assert canvas.pixels == (2100, 2970) and canvas.texel_size_m[0] == pytest.approx(1e-4)
+        win.load_pigment("ultramarine_blue")
+        stroke(win, START_M, END_M)
+        _idle(win, pump, 1)
+        painted = _paint(win)
+        ys, xs = np.nonzero(painted > 1e-7)
+        assert len(xs) > 2000
+        dx = canvas.texel_size_m[0]
+        reach = 2.0 * win.worker.status.get().brush_radius_m + 0.005
+        assert np.all(np.abs((ys + 0.5) * dx - START_M[1]) < reach)
+        assert (xs + 0.5).min() * dx > START_M[0] - reach
+        assert (xs + 0.5).max() * dx < END_M[0] + reach
+        assert pump(5.0, lambda: win.canvas_widget.frame_count > 2)
+    finally:
+        win.close()
+        pump(0.1)
 
 
 def test_palette_swatches_name_their_pigment(window):

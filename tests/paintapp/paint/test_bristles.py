@@ -101,6 +101,7 @@ def test_a_textured_write_back_moves_exactly_the_column_change():
         np.array([1.0, 0.5]),
         canvas.texel_size_m[0],
         window.cell_size_m,
+        0.01,
     )
     owned = window.gather(canvas)
     delta = rng.uniform(-1.0, 1.0, owned.shape) * owned  # losses up to all a column holds

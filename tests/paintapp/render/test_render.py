@@ -210,3 +210,34 @@ def test_largest_canvas_uploads_and_renders(ctx, library):
     expected = canvas_linear_rgb(canvas, canvas_band_table(canvas, library), slice(3990, 4096))
     assert_matches(rgba, expected[:, 3990:])
     renderer.release()
+
+
+@pytest.mark.parametrize("zero_fill", [False, True])
+def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zero_fill):
+    from paintapp.render import textures
+
+    if zero_fill:  # every box is large: zeroed first, only its painted part computed
+        monkeypatch.setattr(textures, "ZERO_FILL_TEXELS", 1)
+    rng = np.random.default_rng(11)
+    names = ("cadmium_red", "cadmium_yellow", "ultramarine_blue", "titanium_white", "ivory_black")
+    canvas = Canvas((300, 200), (300 * TEXEL_M, 200 * TEXEL_M), names)
+    live = CanvasRenderer(ctx, library, lighting=UNLIT)
+    live.update(canvas)
+    for _ in range(12):  # strokes here and there, and the paint drying in between
+        w, h = rng.integers(1, 60, 2)
+        x0, y0 = rng.integers(-20, 290), rng.integers(-20, 190)
+        patch = rng.uniform(0.0, 1e-3, (len(names), h, w)).astype(np.float32)
+        canvas.write_region(int(x0), int(y0), patch, np.ones((h, w), np.float32))
+        canvas.dry(5.0, 0.01)
+        live.update(canvas)
+    assert canvas.peek_dirty() is None
+    fresh = CanvasRenderer(ctx, library, lighting=UNLIT)
+    canvas.mark_all_dirty()
+    assert fresh.update(canvas) == (0, 0, 300, 200)
+    for a, b in (
+        (live._textures.concentration, fresh._textures.concentration),
+        (live._textures.surface, fresh._textures.surface),
+    ):
+        assert a.read() == b.read()
+    live.release()
+    fresh.release()
