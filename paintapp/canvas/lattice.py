@@ -11,7 +11,9 @@ without a lattice at ``p`` gives about 1; the box transfer gave 3.5 (colour) and
 the demo's period of 5 texels.
 
 ``python -m paintapp.canvas.lattice DIR`` prints the ratios of ``DIR/preview.png`` (colour) and
-``DIR/canvas.exr`` (paint height) for periods 2-12.
+``DIR/canvas.exr`` (paint height) for periods 2-12, and the holes of the painting
+(:func:`count_holes`): unpainted texels (paint height at most
+:data:`paintapp.canvas.model.FILM_FLOOR_M`) enclosed by painted ones.
 """
 
 from __future__ import annotations
@@ -20,6 +22,9 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from scipy.ndimage import binary_fill_holes, label
+
+from paintapp.canvas.model import FILM_FLOOR_M
 
 PERIODS = tuple(range(2, 13))
 
@@ -54,6 +59,19 @@ def lattice_table(image: np.ndarray, periods: tuple[int, ...] = PERIODS) -> dict
     return {p: lattice_ratio(image, p) for p in periods}
 
 
+def hole_mask(height_m: np.ndarray, floor_m: float = FILM_FLOOR_M) -> np.ndarray:
+    """(H, W) bool: unpainted texels (height at most ``floor_m``) that painted texels enclose
+    (not connected, through 4-neighbours, to the unpainted canvas outside the painting)."""
+    painted = np.asarray(height_m) > floor_m
+    return binary_fill_holes(painted) & ~painted
+
+
+def count_holes(height_m: np.ndarray, floor_m: float = FILM_FLOOR_M) -> tuple[int, int]:
+    """(unpainted texels inside the painting, separate holes they form): see :func:`hole_mask`."""
+    holes = hole_mask(height_m, floor_m)
+    return int(holes.sum()), int(label(holes)[1])
+
+
 def _read_png(path: Path) -> np.ndarray:
     import OpenImageIO as oiio
 
@@ -69,11 +87,16 @@ def main(argv: list[str]) -> int:
 
     folder = Path(argv[0]) if argv else Path("paintapp-demo")
     colour = lattice_table(_read_png(folder / "preview.png"))
-    height = lattice_table(read_canvas_exr(folder / "canvas.exr").height_m)
+    height_m = read_canvas_exr(folder / "canvas.exr").height_m
+    height = lattice_table(height_m)
     print("period  colour  height")
     for p in PERIODS:
         print(f"{p:6d}  {colour[p]:6.3f}  {height[p]:6.3f}")
     print(f"max     {max(colour.values()):6.3f}  {max(height.values()):6.3f}")
+    texels, holes = count_holes(height_m)
+    print(
+        f"holes: {texels} unpainted texels (<= {FILM_FLOOR_M:g} m) inside the painting, {holes} holes"
+    )
     return 0
 
 

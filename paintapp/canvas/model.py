@@ -35,6 +35,9 @@ DRY_THRESHOLD = 1e-3
 DRY_UPLOAD_STEP = 0.02
 #: Thickest paint accepted, metres (a 5 cm blob is already absurd for a painting).
 MAX_PAINT_M = 0.05
+#: Thinnest film of paint that counts as paint (0.1 um: far below any visible layer); the paint
+#: transfer leaves no changed column with less, and a texel with at most this much is unpainted.
+FILM_FLOOR_M = 1e-7
 
 
 def _check_name(name: str) -> None:

@@ -33,12 +33,13 @@ import numpy as np
 from scipy import sparse
 
 from common.errors import InputError
+from paintapp.canvas.model import FILM_FLOOR_M as CANVAS_FILM_FLOOR_M
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
-#: (:func:`drop_thin_films`). 0.1 um: far below any visible layer of paint.
-FILM_FLOOR_M = 1e-7
+#: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
+FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
 
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
@@ -214,7 +215,9 @@ class ColumnWindow:
         new_mobile, touched = _spread_change(mobile, owned, change, wx, wy, shape)
         if not touched.any():
             return
-        new_paint = paint * (1.0 - wet) + new_mobile  # dry part + new wet part
+        dry = paint * (1.0 - wet)
+        new_mobile, touched = close_pinholes(dry, new_mobile, touched)
+        new_paint = dry + new_mobile  # dry part + new wet part
         total = new_paint.sum(axis=0)
         with np.errstate(invalid="ignore", divide="ignore"):
             new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
@@ -260,6 +263,48 @@ def _to_texels(columns: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
     a = wx.transposed @ columns.transpose(1, 0, 2).reshape(ni, p * nj)  # (nx, P nj)
     a = np.ascontiguousarray(a.reshape(nx, p, nj).transpose(2, 1, 0)).reshape(nj, p * nx)
     return (wy.transposed @ a).reshape(ny, p, nx).transpose(1, 0, 2)
+
+
+#: The 8 neighbours of a texel, (row, column) offsets.
+_NEIGHBOURS = tuple((dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx)
+
+
+def close_pinholes(
+    dry: np.ndarray, mobile: np.ndarray, touched: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Wet paint (P, ny, nx) with no pinholes, and the texels that changed.
+
+    A pinhole is a changed texel left with at most :data:`FILM_FLOOR_M` of paint whose eight
+    neighbours all hold more than twice that (the tent's overlapping losses can empty one texel
+    inside a painted area). Wet paint does not keep a hole a texel wide: each neighbour gives it
+    1/9 of its wet paint, per pigment, so it ends with about the neighbours' mean. Conserved
+    exactly and never negative (a neighbour gives at most 8/9). Texels on the box's edge are
+    left as they are (their neighbours are not all in the box)."""
+    total = dry.sum(axis=0) + mobile.sum(axis=0)
+    ny, nx = total.shape
+    if ny < 3 or nx < 3:
+        return mobile, touched
+    core = (slice(1, -1), slice(1, -1))
+    pin = touched[core] & (total[core] <= FILM_FLOOR_M)
+    if not pin.any():
+        return mobile, touched
+    shifted = [(slice(1 + dy, ny - 1 + dy), slice(1 + dx, nx - 1 + dx)) for dy, dx in _NEIGHBOURS]
+    for sl in shifted:
+        pin &= total[sl] > 2.0 * FILM_FLOOR_M
+    if not pin.any():
+        return mobile, touched
+    out = mobile.copy()
+    gain = np.zeros_like(mobile[:, 1:-1, 1:-1])
+    gives = np.zeros(total.shape)
+    for sl in shifted:
+        gain += np.where(pin, mobile[(slice(None), *sl)], 0.0) / 9.0
+        gives[sl] += pin
+    out *= 1.0 - gives / 9.0
+    out[:, 1:-1, 1:-1] += gain
+    changed = touched.copy()
+    changed |= gives > 0.0
+    changed[core] |= pin
+    return out, changed
 
 
 def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.ndarray:

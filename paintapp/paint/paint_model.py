@@ -29,8 +29,9 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.ndimage import binary_dilation
 
-from brushes import BrushPreset, PaintReservoir, Section, TipPose
+from brushes import BrushPreset, PaintReservoir, Section, TipPose, voxelize
 from common.tilt import yaw_angle
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
@@ -41,6 +42,14 @@ from solver.simulation import SolverSettings
 
 #: Longest lateral travel of the tip in one paint step, in cells (longer moves are sub-stepped).
 MAX_TRAVEL_CELLS = 2.0
+#: Lift-off: the paint round the tip's last footprint flows back into the hole it leaves, by
+#: sweeps of a conservative neighbour exchange (each column trades this share of the difference
+#: with each neighbour) over the footprint and this many cells around it, until every footprint
+#: column holds at least this share of the region's mean paint (at most this many sweeps).
+SETTLE_SHARE = 0.2
+SETTLE_REACH_CELLS = 2
+SETTLE_LEVEL = 0.5
+SETTLE_MAX_SWEEPS = 64
 #: Most sub-steps a step's travel adds: a live session that fell behind (its samples far apart)
 #: must not slow down further by sub-stepping ever longer moves (the time step's own split,
 #: ``scene.max_step_s``, is not capped).
@@ -136,6 +145,8 @@ class PaintModel(ABC):
     """
 
     name = "model"
+    #: Whether the paint closes over the tip's footprint at lift-off (a fluid does, a stamp not).
+    settles_on_lift = True
 
     def __init__(
         self,
@@ -197,9 +208,46 @@ class PaintModel(ABC):
         self.heading = np.array([-math.sin(yaw), math.cos(yaw)])  # body y: a flat brush's stroke
         self._reset(pose)
 
-    def lift(self) -> None:
-        """The brush leaves the paint."""
+    def lift(self, settle: bool = True) -> None:
+        """The brush leaves the paint; with ``settle`` (a real lift-off, not a change of model
+        under a brush still in the paint) the wet paint flows back into its footprint."""
+        if settle and self.settles_on_lift and self.pose is not None:
+            self.settle(self.pose)
         self.pose = None
+
+    def settle(self, pose: TipPose) -> None:
+        """Let the wet paint round the tip's footprint at ``pose`` flow back into it.
+
+        The tip pushed the paint out of its footprint (into a ridge round it); lifted, it leaves
+        a hole down to the bare canvas, which viscous paint closes over. Over the footprint's
+        columns and :data:`SETTLE_REACH_CELLS` around them (on the canvas), each pigment's wet
+        paint is exchanged between neighbouring columns, :data:`SETTLE_SHARE` of the difference
+        per sweep, until the footprint's emptiest column holds :data:`SETTLE_LEVEL` of the
+        region's mean (at most :data:`SETTLE_MAX_SWEEPS` sweeps): conserved exactly, never
+        negative, dry paint untouched, and nothing moves beyond that region."""
+        h = self.cell_size_m
+        shape = Section(self.preset.tip(pose.splay), section_height_m(pose, h))
+        origin, cells = self.window.origin_m, self.window.cells
+        foot = voxelize(shape, pose.position_m[:2], yaw_angle(pose.orientation), origin, h, cells)
+        region = binary_dilation(foot, iterations=SETTLE_REACH_CELLS) & self.window.on_canvas()
+        if not (foot & region).any():
+            return
+        columns = self.wet_columns()
+        q = columns.copy()
+        inside = foot & region
+        for _ in range(SETTLE_MAX_SWEEPS):
+            total = q.sum(axis=0)
+            if total[inside].min() >= SETTLE_LEVEL * total[region].mean():
+                break
+            for axis in (1, 2):
+                lo = [slice(None)] * 3
+                hi = [slice(None)] * 3
+                lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+                pair = region[tuple(lo[1:])] & region[tuple(hi[1:])]
+                flow = SETTLE_SHARE * (q[tuple(hi)] - q[tuple(lo)]) * pair
+                q[tuple(lo)] += flow
+                q[tuple(hi)] -= flow
+        self.window.write_back(self.canvas, np.maximum(q, 0.0) - columns, gathered=columns)
 
     def step(self, pose: TipPose, dt_s: float, reservoir: PaintReservoir) -> PaintStep:
         """Move the tip to ``pose`` over ``dt_s`` seconds, exchanging paint with ``reservoir``."""

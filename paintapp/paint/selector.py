@@ -138,7 +138,7 @@ class ModelSelector:
         self.plan = plan
         same_grid = old is not None and (old.fluid, old.fit.cells) == (plan.fluid, plan.fit.cells)
         if not same_grid:
-            self.model.lift()
+            self.model.lift(settle=False)  # the brush stays in the paint
             self.model = build_model(
                 self.scene, self.canvas, self.preset, plan.fluid, plan.fit, self.needs
             )

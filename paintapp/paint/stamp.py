@@ -25,6 +25,7 @@ class StampModel(PaintModel):
     """The fluid-free paint model (see the module docstring)."""
 
     name = "none"
+    settles_on_lift = False  # nothing flows
 
     def __init__(
         self,

@@ -36,3 +36,16 @@ def test_box_blocks_show_their_period_and_a_tent_interpolation_does_not():
 def test_bad_periods_are_refused():
     with pytest.raises(ValueError):
         lattice_ratio(np.zeros((4, 4)), 4)
+
+
+def test_holes_are_unpainted_texels_the_painting_encloses():
+    from paintapp.canvas.lattice import count_holes
+
+    height = np.zeros((40, 40))
+    height[5:20, 5:20] = 1e-5
+    height[10:12, 10:13] = 0.0  # a hole of 6 texels
+    height[15, 15] = 5e-8  # a film under the floor is unpainted: a second hole
+    height[25:35, 25:35] = 1e-5
+    height[25:35, 30] = 0.0  # a cut through to the outside is no hole
+    assert count_holes(height) == (7, 2)
+    assert count_holes(np.zeros((8, 8))) == (0, 0)

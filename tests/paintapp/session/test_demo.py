@@ -7,6 +7,7 @@ import pytest
 
 from brushes import StylusSample
 from paintapp.canvas.exr import read_canvas_exr
+from paintapp.canvas.lattice import count_holes
 from paintapp.cli import main
 from paintapp.resources import asset_path
 from paintapp.session.outputs import read_forces_csv
@@ -49,5 +50,6 @@ def test_demo_paints_mixes_and_records_forces(tmp_path):
     assert np.count_nonzero((conc[blue] > 0.2) & (conc[yellow] > 0.2)) > 1000  # they mixed
     red = conc[canvas.pigment_index("cadmium_red")] > 0.5
     assert canvas.height_m[red].max() > 5e-4  # impasto: over half a millimetre
+    assert count_holes(canvas.height_m) == (0, 0)  # no unpainted texel inside the painting
     forces = read_forces_csv(out / "forces.csv")
     assert np.all(np.isfinite(forces)) and np.linalg.norm(forces[:, 1:4], axis=1).max() > 0.01
