@@ -4,8 +4,9 @@ stylus samples.
 It is a :class:`QOpenGLWidget`; ``initializeGL`` wraps Qt's context with
 ``moderngl.create_context()`` and ``paintGL`` draws into Qt's framebuffer object
 (``ctx.detect_framebuffer(self.defaultFramebufferObject())``; framebuffer 0 is not the widget's).
-Each frame uploads only the display canvas's dirty region, under the shared lock, and draws the
-brush outline and the force arrow over the paint. The render loop is a Qt timer at the display
+Each frame uploads only the display canvas's dirty region, under the shared lock, re-shades only
+that region of the cached lit picture (:meth:`CanvasRenderer.render_cached`), draws the picture,
+and the brush outline and the force arrow over it. The render loop is a Qt timer at the display
 rate that calls ``update()``.
 """
 
@@ -100,7 +101,7 @@ class CanvasWidget(QOpenGLWidget):
         fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
         mapping = ViewMapping(size_m, (self.width(), self.height()))
         outlines, arrows = self._overlays(size_m)
-        renderer.render(size, mapping.view, outlines, arrows, framebuffer=fbo)
+        renderer.render_cached(size, mapping.view, outlines, arrows, framebuffer=fbo)
         self.frames.tick()
         self.frame_count += 1
 

@@ -15,7 +15,7 @@ from paintapp.resources import shader_source
 
 GLSL_VERSION = "#version 330 core"
 #: Every program shipped in ``shaders/`` (file ``<name>.glsl``).
-PROGRAM_NAMES: tuple[str, ...] = ("canvas", "overlay")
+PROGRAM_NAMES: tuple[str, ...] = ("canvas", "overlay", "picture")
 
 
 class RenderUnavailable(RuntimeError):

@@ -10,6 +10,12 @@ and headless export::
 
     rgba = renderer.render_linear_rgba(canvas)   # (H, W, 4) float32, row 0 = canvas bottom
 
+A window that redraws every frame uses :meth:`CanvasRenderer.render_cached`: the Kubelka-Munk
+mixing and the lighting run once per canvas texel into a cached picture, again only where the
+canvas changed (and everywhere when the pigments, the lighting or the canvas size change), and a
+frame samples that picture: a blit per frame instead of the spectral mixing of every window pixel,
+which on a software rasterizer took the whole CPU.
+
 Output is linear scene-referred RGB with sRGB/Rec.709 primaries under D65 (see
 :mod:`paintapp.pigments.spectra`); alpha is 1 on the canvas.
 """
@@ -22,7 +28,7 @@ import moderngl
 import numpy as np
 
 from paintapp.canvas.model import MAX_PIGMENTS, Canvas
-from paintapp.canvas.regions import Box
+from paintapp.canvas.regions import Box, clip_box, union_box
 from paintapp.pigments.bands import Bands, BandTable, band_table
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render.context import load_program
@@ -67,6 +73,14 @@ class CanvasRenderer:
         quad = np.zeros((4, 2), np.float32)
         self._quad = ctx.buffer(quad.tobytes())
         self._quad_vaos: dict[int, moderngl.VertexArray] = {}
+        self._picture_program = load_program(ctx, "picture")
+        self._picture_vao = ctx.vertex_array(
+            self._picture_program, [(self._quad, "2f", "in_pos_m")]
+        )
+        self._picture: moderngl.Texture | None = None
+        self._picture_fbo: moderngl.Framebuffer | None = None
+        self._picture_lighting: Lighting | None = None
+        self._stale: Box | None = None  # texels whose cached colour is out of date
 
     # --- canvas upload ------------------------------------------------------------------------
     def _canvas_program(self, layers: int) -> moderngl.Program:
@@ -102,6 +116,10 @@ class CanvasRenderer:
         box = canvas.take_dirty()
         if box is not None:
             self._textures.upload(canvas, box)
+            # the lighting reads the height one texel either side
+            x0, y0, x1, y1 = box
+            grown = clip_box((x0 - 1, y0 - 1, x1 + 1, y1 + 1), canvas.pixels)
+            self._stale = union_box(self._stale, grown)
         return box
 
     def _set_uniforms(self, program: moderngl.Program, view: ViewRect) -> None:
@@ -171,14 +189,93 @@ class CanvasRenderer:
         self._set_uniforms(program, view)
         textures.concentration.use(0)
         textures.surface.use(1)
+        self._write_canvas_quad()
+        self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+        self._draw_overlays(view, size, outlines, arrows)
+
+    def render_cached(
+        self,
+        size: tuple[int, int],
+        view: ViewRect,
+        outlines: Sequence[BrushOutline] = (),
+        arrows: Sequence[ForceArrow] = (),
+        framebuffer: moderngl.Framebuffer | None = None,
+    ) -> Box | None:
+        """As :meth:`render`, drawing the cached picture (see the module docstring); returns the
+        texel box shaded for this frame (None when the picture was up to date)."""
+        textures = self._textures
+        if textures is None:
+            raise RuntimeError("call update(canvas) before render_cached()")
+        shaded = self._shade_stale(textures)
+        if framebuffer is None:
+            framebuffer = self._offscreen(size)
+        assert self._picture is not None
+        framebuffer.use()
+        self.ctx.viewport = (0, 0, *size)
+        self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
+        framebuffer.clear(*BACKGROUND)
+        program = self._picture_program
+        _uniform(program, "u_view").write(view.matrix().T.copy().tobytes())
+        _uniform(program, "u_canvas_size_m").value = self._canvas_size_m
+        _uniform(program, "u_picture").value = 0
+        self._picture.use(0)
+        self._write_canvas_quad()
+        self._picture_vao.render(moderngl.TRIANGLE_STRIP)
+        self._draw_overlays(view, size, outlines, arrows)
+        return shaded
+
+    def _shade_stale(self, textures: CanvasTextures) -> Box | None:
+        """Bring the cached picture up to date: shade its stale texels (all of them for a new
+        canvas size or a new light)."""
+        w, h = textures.pixels
+        if self._picture is None or self._picture.size != (w, h):
+            self._release_picture()
+            self._picture = self.ctx.texture((w, h), 4, dtype="f2")
+            self._picture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            self._picture.repeat_x = False
+            self._picture.repeat_y = False
+            self._picture_fbo = self.ctx.framebuffer(color_attachments=[self._picture])
+            self._stale = (0, 0, w, h)
+        if self._picture_lighting != self.lighting:
+            self._picture_lighting = self.lighting
+            self._stale = (0, 0, w, h)
+        box, self._stale = self._stale, None
+        if box is None:
+            return None
+        assert self._picture_fbo is not None
+        self._picture_fbo.use()
+        self.ctx.viewport = (0, 0, w, h)
+        self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
+        x0, y0, x1, y1 = box
+        self.ctx.scissor = (x0, y0, x1 - x0, y1 - y0)
+        try:
+            program = self._canvas_program(textures.layers)
+            self._set_uniforms(program, ViewRect.whole(self._canvas_size_m))
+            textures.concentration.use(0)
+            textures.surface.use(1)
+            self._write_canvas_quad()
+            self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+        finally:
+            self.ctx.scissor = None
+        return box
+
+    def _write_canvas_quad(self) -> None:
         w, h = self._canvas_size_m
         self._quad.write(np.array([[0, 0], [w, 0], [0, h], [w, h]], np.float32).tobytes())
-        vao = self._quad_vaos.get(textures.layers)
+
+    def _canvas_vao(self, layers: int, program: moderngl.Program) -> moderngl.VertexArray:
+        vao = self._quad_vaos.get(layers)
         if vao is None:
             vao = self.ctx.vertex_array(program, [(self._quad, "2f", "in_pos_m")])
-            self._quad_vaos[textures.layers] = vao
-        vao.render(moderngl.TRIANGLE_STRIP)
-        self._draw_overlays(view, size, outlines, arrows)
+            self._quad_vaos[layers] = vao
+        return vao
+
+    def _release_picture(self) -> None:
+        if self._picture_fbo is not None:
+            self._picture_fbo.release()
+        if self._picture is not None:
+            self._picture.release()
+        self._picture = self._picture_fbo = None
 
     def _draw_overlays(
         self,
@@ -224,9 +321,10 @@ class CanvasRenderer:
         """Free the GPU resources (the context itself is the caller's)."""
         if self._textures is not None:
             self._textures.release()
-        for vao in self._quad_vaos.values():
+        for vao in (*self._quad_vaos.values(), self._picture_vao):
             vao.release()
-        for program in (*self._programs.values(), self._overlay):
+        self._release_picture()
+        for program in (*self._programs.values(), self._overlay, self._picture_program):
             program.release()
         self._quad.release()
         if self._target is not None:

@@ -241,3 +241,46 @@ def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zer
         assert a.read() == b.read()
     live.release()
     fresh.release()
+
+
+def _cached(renderer: CanvasRenderer, canvas: Canvas) -> tuple[np.ndarray, object]:
+    """The cached-picture render of the whole canvas at one pixel per texel, read back."""
+    renderer.update(canvas)
+    shaded = renderer.render_cached(canvas.pixels, ViewRect.whole(canvas.size_m))
+    return renderer.read_linear_rgba(), shaded
+
+
+def test_cached_picture_render_matches_the_direct_render(ctx, library):
+    canvas = known_canvas()
+    lit = Lighting(enabled=True, relief=50.0)
+    direct = CanvasRenderer(ctx, library, lighting=lit)
+    exact = direct.render_linear_rgba(known_canvas())
+    cached = CanvasRenderer(ctx, library, lighting=lit)
+    rgba, shaded = _cached(cached, canvas)
+    assert shaded == (0, 0, *canvas.pixels)  # the first frame shades everything
+    # the picture is half floats: the direct render's values within half-float rounding
+    np.testing.assert_allclose(rgba[..., :3], exact[..., :3], rtol=2e-3, atol=1e-4)
+    direct.release()
+    cached.release()
+
+
+def test_cached_picture_reshades_only_what_changed_and_stays_exact(ctx, library):
+    canvas = known_canvas()
+    lit = Lighting(enabled=True, relief=50.0)
+    cached = CanvasRenderer(ctx, library, lighting=lit)
+    _cached(cached, canvas)
+    _, shaded = _cached(cached, canvas)
+    assert shaded is None  # nothing changed: a frame is a blit
+    for c in (canvas, reference_canvas := known_canvas()):
+        c.paint_m[0, 5:8, 10:13] += 4e-4  # a dab (rows 5-7, columns 10-12)
+    canvas.mark_dirty(10, 5, 13, 8)
+    rgba, shaded = _cached(cached, canvas)
+    assert shaded == (9, 4, 14, 9)  # the dab and the texel round it that its relief lights
+    fresh = CanvasRenderer(ctx, library, lighting=lit)
+    exact = fresh.render_linear_rgba(reference_canvas)
+    np.testing.assert_allclose(rgba[..., :3], exact[..., :3], rtol=2e-3, atol=1e-4)
+    cached.lighting = Lighting(enabled=True, relief=50.0, azimuth_deg=200.0)
+    _, shaded = _cached(cached, canvas)
+    assert shaded == (0, 0, *canvas.pixels)  # a new light reshades everything
+    fresh.release()
+    cached.release()
