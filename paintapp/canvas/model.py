@@ -33,6 +33,9 @@ MAX_PIGMENTS = 16
 DRY_THRESHOLD = 1e-3
 #: Relative wetness drop after which drying marks the wet area dirty (for the renderer).
 DRY_UPLOAD_STEP = 0.02
+#: Relative wetness drop that drying gathers before it touches the texels: steps of a slow drying
+#: (1 % per second) cost a pass over the wet area only every half second, not every paint step.
+DRY_BATCH = 0.005
 #: Thickest paint accepted, metres (a 5 cm blob is already absurd for a painting).
 MAX_PAINT_M = 0.05
 #: Thinnest film of paint that counts as paint (0.1 um: far below any visible layer); the paint
@@ -68,6 +71,7 @@ class Canvas:
     _dirty: Box | None = field(default=None, init=False, repr=False)
     _wet_box: Box | None = field(default=None, init=False, repr=False)
     _unshown_drying: float = field(default=1.0, init=False, repr=False)
+    _pending_drying: float = field(default=1.0, init=False, repr=False)
 
     def __post_init__(self) -> None:
         w, h = (int(v) for v in self.pixels)
@@ -226,16 +230,21 @@ class Canvas:
     def dry(self, dt_s: float, rate_per_s: float) -> None:
         """Let paint dry: wetness decays as ``exp(-rate dt)``; below 1e-3 it becomes exactly 0.
 
-        Only the bounding box of possibly-wet texels is touched. It is marked dirty once the
-        wetness has dropped by 2 % since it was last marked (and when it becomes fully dry), so
-        slow drying does not re-upload the wet area every frame.
+        Only the bounding box of possibly-wet texels is touched, and only once the decay gathered
+        since the last pass reaches ``DRY_BATCH`` (0.5 %): the wetness lags its exact value by
+        less than that (paint laid meanwhile dries as if laid at the last pass). The box is marked
+        dirty once the wetness has dropped by 2 % since it was last marked (and when it becomes
+        fully dry), so slow drying does not re-upload the wet area every frame.
         """
         if not (math.isfinite(dt_s) and math.isfinite(rate_per_s)) or dt_s < 0 or rate_per_s < 0:
             raise InputError(f"need finite dt_s >= 0 and rate >= 0, got {dt_s}, {rate_per_s}")
         if self._wet_box is None or dt_s == 0 or rate_per_s == 0:
             return
+        self._pending_drying *= math.exp(-rate_per_s * dt_s)
+        if self._pending_drying > 1.0 - DRY_BATCH:
+            return
+        factor, self._pending_drying = self._pending_drying, 1.0
         x0, y0, x1, y1 = self._wet_box
-        factor = math.exp(-rate_per_s * dt_s)
         block = self.wetness[y0:y1, x0:x1]
         block *= np.float32(factor)
         block[block < DRY_THRESHOLD] = 0.0
