@@ -211,7 +211,7 @@ class PaintModel(ABC):
     def lift(self, settle: bool = True) -> None:
         """The brush leaves the paint; with ``settle`` (a real lift-off, not a change of model
         under a brush still in the paint) the wet paint flows back into its footprint."""
-        if settle and self.settles_on_lift and self.pose is not None:
+        if settle and self.settles_on_lift and self.scene.settle_on_lift and self.pose is not None:
             self.settle(self.pose)
         self.pose = None
 

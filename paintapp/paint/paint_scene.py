@@ -19,6 +19,7 @@ A scene file::
     air_viscosity_ratio = 1e-3      # the air above the paint, relative to the paint
     drying_rate_per_s = 0.01        # wetness decays as exp(-rate t)
     max_height_m = 0.002            # depth_averaged: tallest wet column a cell holds
+    settle_on_lift = true           # the paint flows back into the tip's footprint at lift-off
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
@@ -108,6 +109,8 @@ class PaintScene:
         air_viscosity_ratio: viscosity of the paint-free cells relative to the paint (3D grid).
         drying_rate_per_s: wetness decay rate, 1/s.
         max_height_m: tallest wet paint column a depth-averaged cell accepts from the brush, m.
+        settle_on_lift: at lift-off the wet paint flows back into the tip's footprint
+            (:meth:`paintapp.paint.paint_model.PaintModel.settle`); False leaves its print.
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
@@ -127,6 +130,7 @@ class PaintScene:
     air_viscosity_ratio: float = 1e-3
     drying_rate_per_s: float = 0.01
     max_height_m: float = 0.002
+    settle_on_lift: bool = True
     pickup_fraction: float = 0.3
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
@@ -159,6 +163,13 @@ class PaintScene:
         return self.viscosity_pa_s * self.air_viscosity_ratio
 
 
+def _boolean(table: Table, name: str, default: bool) -> bool:
+    value = table.raw(name, default)
+    if not isinstance(value, bool):
+        raise table.error(name, f"expected true or false, got {value!r}")
+    return value
+
+
 def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintScene:
     """Validate a parsed scene table; :class:`InputError` names the file and key."""
     top = Table(data, source, "")
@@ -186,6 +197,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         max_height_m=paint.number(
             "max_height_m", 0.002, minimum=1e-5, exclusive=True, maximum=0.05
         ),
+        settle_on_lift=_boolean(paint, "settle_on_lift", True),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(

@@ -85,3 +85,14 @@ def test_a_pinhole_is_filled_from_its_neighbours_conserving_each_pigment():
     untouched = np.zeros((9, 9), bool)  # a texel the step did not change is not a pinhole here
     same, _ = close_pinholes(dry, mobile, untouched)
     assert np.array_equal(same, mobile)
+
+
+def test_settle_on_lift_is_a_scene_switch_and_a_bad_value_names_the_key():
+    from common.errors import InputError
+    from paintapp.paint.paint_scene import parse_paint_scene
+
+    assert parse_paint_scene({}, "s").settle_on_lift is True
+    assert parse_paint_scene({"paint": {"settle_on_lift": False}}, "s").settle_on_lift is False
+    with pytest.raises(InputError) as err:
+        parse_paint_scene({"paint": {"settle_on_lift": "no"}}, "s", "my_scene.toml")
+    assert err.value.key == "paint.settle_on_lift" and "my_scene.toml" in str(err.value)
