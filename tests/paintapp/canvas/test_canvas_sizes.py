@@ -61,3 +61,20 @@ def test_a_full_a4_canvas_goes_to_exr_and_back(tmp_path):
     assert back.pixels == pixels and back.size_m == pytest.approx(size_m)
     np.testing.assert_array_equal(back.paint_m, canvas.paint_m)
     np.testing.assert_array_equal(back.wetness, canvas.wetness)
+
+
+def test_the_commands_take_a_canvas_size_and_name_a_bad_one(tmp_path, capsys):
+    from paintapp.cli import build_parser, main
+    from paintapp.commands.paint import options_from_args
+
+    args = build_parser().parse_args(
+        ["paint", "--canvas-size", "a5-landscape", "--texel-mm", "0.2"]
+    )
+    options = options_from_args(args)
+    assert options.pixels == (1050, 740) and options.size_m == pytest.approx((0.21, 0.148))
+    assert options_from_args(build_parser().parse_args(["paint"])).pixels == (2100, 2970)
+    bad = build_parser().parse_args(["paint", "--canvas-size", "poster"])
+    with pytest.raises(InputError, match="--canvas-size"):
+        options_from_args(bad)
+    assert main(["demo", "--canvas-size", "a4", "--texel-mm", "0.01", "--out", str(tmp_path)]) == 2
+    assert "--texel-mm" in capsys.readouterr().err
