@@ -25,8 +25,8 @@ class SolverSettings:
     the assembled matrix) or ``mic0`` (modified incomplete Cholesky, the paper's choice).
     ``viscosity_preconditioner``: the same two, ``jacobi`` (the diagonal), or ``auto``: per step,
     the diagonal while the system is strongly diagonally dominant (``2 dim nu_max dt / h^2 <=
-    JACOBI_LIMIT``), MIC(0) above (thick paint: there a V-cycle costs more than the iterations
-    it saves). The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
+    JACOBI_LIMIT``), multigrid above (measured: as fast as MIC(0) for thick paint, 1.7x faster
+    at ``2 dim nu dt / h^2 ~ 10``). The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
     ``paintapp bench``)."""
 
     advection: str = "linear"
@@ -47,7 +47,7 @@ class SolverSettings:
         ``coupling``."""
         if self.viscosity_preconditioner != "auto":
             return self.viscosity_preconditioner
-        return "jacobi" if coupling <= JACOBI_LIMIT else "mic0"
+        return "jacobi" if coupling <= JACOBI_LIMIT else "multigrid"
 
     @property
     def incremental_pressure(self) -> bool:

@@ -50,5 +50,5 @@ def test_auto_viscosity_preconditioner_follows_the_coupling():
     auto = SolverSettings()
     assert auto.viscosity_solver(0.1) == "jacobi"
     assert auto.viscosity_solver(JACOBI_LIMIT) == "jacobi"
-    assert auto.viscosity_solver(10.0 * JACOBI_LIMIT) == "mic0"
-    assert SolverSettings(viscosity_preconditioner="multigrid").viscosity_solver(0.1) == "multigrid"
+    assert auto.viscosity_solver(10.0 * JACOBI_LIMIT) == "multigrid"
+    assert SolverSettings(viscosity_preconditioner="mic0").viscosity_solver(0.1) == "mic0"
