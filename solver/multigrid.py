@@ -10,12 +10,13 @@ weight without knowing where they came from:
 - cells are aggregated 2 x 2 (x 2 in 3D) per level, until the coarsest level is a few cells a
   side; a coarse cell is an unknown when any of its children is and its diagonal is positive;
 - the coarse matrix is the Galerkin product ``P^T A P`` with piecewise-constant ``P``, which keeps
-  the 7-point stencil and symmetry, with its zero-row-sum (Laplacian) part scaled by
-  ``laplacian_scale`` (1/2: the face weights of the same operator rediscretized on cells twice
-  as wide, in 2D and 3D alike) and its row sums (mass, drag, Dirichlet ghosts) by ``mass_scale``;
-- smoothing is red-black Gauss-Seidel, red then black going down and black then red coming
-  back, with the coarsest level swept the same way many times, so the V-cycle is a symmetric
-  positive definite preconditioner and CG applies.
+  the 7-point stencil and symmetry, with its zero-row-sum (Laplacian) part scaled by the first
+  of :class:`Multigrid`'s ``scales`` (1/2: the face weights of the same operator rediscretized on
+  cells twice as wide, in 2D and 3D alike) and its row sums (outflow ghosts, a mass, a drag) by
+  the second (1/2 for the pressure's ghost faces, 1 for a mass);
+- smoothing is red-black Gauss-Seidel, ``PRE_SMOOTH`` red-black sweeps going down and as many
+  black-red sweeps coming back, the coarsest level swept ``COARSEST_SWEEPS`` times each way, so
+  the V-cycle is a symmetric positive definite preconditioner and CG applies.
 
 Every array of the hierarchy is preallocated once per grid shape and refilled in place each
 solve: rebuilding it as probes move costs about two passes over the fine grid.
