@@ -198,3 +198,15 @@ def test_replay_explain_prints_decisions_and_counts(tmp_path, capsys):
     assert code == 0
     assert "touch-down:" in out and "outputs: force only" in out
     assert "in the air, no steps" in out and "grids used" in out
+
+
+def test_the_solver_table_takes_the_preconditioners_and_names_a_bad_one():
+    scene = parse_paint_scene(
+        {"solver": {"preconditioner": "mic0", "viscosity_preconditioner": "jacobi"}}, "x"
+    )
+    assert scene.solver.preconditioner == "mic0"
+    assert scene.solver.viscosity_preconditioner == "jacobi"
+    assert parse_paint_scene({}, "x").solver.preconditioner == "multigrid"
+    with pytest.raises(InputError, match=r"solver\.preconditioner") as info:
+        parse_paint_scene({"solver": {"preconditioner": "ilu"}}, "x")
+    assert "multigrid" in str(info.value) and "mic0" in str(info.value)
