@@ -169,6 +169,19 @@ def main() -> None:
             os._exit(0)  # skip Qt's teardown: its display is gone
 
 
+def wait_until_ready(app, win, timeout_s: float = 30.0) -> None:
+    """Wait until the servo loop publishes the stylus and a frame has been drawn: a servo process
+    that starts late (a loaded machine) must not eat the timed stroke."""
+    start = time.perf_counter()
+    while time.perf_counter() - start < timeout_s:
+        servo_up = win.link is None or win.link.states.latest()[1] is not None
+        if servo_up and win.canvas_widget.frame_count > 0:
+            return
+        app.processEvents()
+        time.sleep(0.01)
+    print(f"warning: not ready after {timeout_s:.0f} s (servo or first frame); timing anyway")
+
+
 def run(args: argparse.Namespace) -> None:
     from paintapp.app.haptic_link import parse_device
     from paintapp.app.launch import create_window
@@ -186,6 +199,7 @@ def run(args: argparse.Namespace) -> None:
     for _ in range(100):
         app.processEvents()
         time.sleep(0.01)
+    wait_until_ready(app, win)
     win.load_pigment("ultramarine_blue")
     win.hud.show_grid = True
     rates = paint(app, win, args.seconds)
@@ -195,6 +209,10 @@ def run(args: argparse.Namespace) -> None:
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
     print(f"CPU per second  worker {rates['worker_cpu']:.2f}, GUI {rates['gui_cpu']:.2f}, "
           f"app process {rates['app_cpu']:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
+    if rates["sim_hz"] == 0.0:
+        session = win.worker.session
+        print(f"no paint step: worker says {win.worker.message!r}; in contact "
+              f"{session.in_contact}; last sample {session.tracker.last}")  # fmt: skip
     figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
     figures |= {"seconds": rates["seconds"], "frame rate": rates["frame_hz"]}
     figures["simulation rate"] = rates["sim_hz"]
