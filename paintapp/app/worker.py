@@ -5,8 +5,9 @@ Each pass of its loop:
 1. runs the commands the GUI queued (palette, mixing slab, brush, scene, undo/redo, a new
    canvas); the worker owns the brush's paint and the mixing slab's;
 2. takes the latest input: with a tablet or mouse, the samples the GUI pushed since the last pass
-   (only pen-down/pen-up transitions and the newest sample are kept; while the pen is held still
-   the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
+   (pen-down/pen-up transitions, the newest sample, and while the pen is down one sample every
+   half brush radius of travel, so a slow pass shortens the work but never breaks the stroke;
+   while the pen is held still the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
    pose the servo loop published (from its own process, through shared memory, by default);
 3. stamps each sample with the session clock, hands it to the
    :class:`~paintapp.session.painting.PaintingSession` (which publishes the force to the servo loop's
@@ -56,6 +57,12 @@ from paintapp.strokes.records import StrokeHeader
 
 #: Longest session time one sample may advance, s.
 MAX_STEP_S = 0.05
+#: Longest gap, in brush radii, that the samples a busy worker keeps of a stroke may leave: a
+#: slow step (the first one loads the kernels) must not turn the rest of the stroke into a jump.
+TRAIL_SPACING = 0.5
+#: Most samples of travel a pass keeps (the spacing widens beyond that): after a long stall the
+#: brush catches up with the pen in a bounded number of steps.
+MAX_TRAIL_STEPS = 16
 #: Pause between passes with nothing to do, s.
 IDLE_S = 0.004
 #: Pause between haptic samples while the brush is in the air, s.
@@ -211,11 +218,7 @@ class SimulationWorker(threading.Thread):
         if not batch:
             held = self._last_input is not None and self._last_input.pressure > 0
             return [self._last_input] if held and self._last_input is not None else []
-        keep = [
-            s
-            for i, s in enumerate(batch)
-            if i == len(batch) - 1 or (s.pressure > 0) != (batch[i + 1].pressure > 0)
-        ]
+        keep = keep_samples(batch, self._last_input, TRAIL_SPACING * self._radius)
         self._last_input = batch[-1]
         return keep
 
@@ -344,3 +347,37 @@ class SimulationWorker(threading.Thread):
             message=self.journal.error or self.message,
         )
         self.status.publish(status)
+
+
+def keep_samples(
+    batch: list[StylusSample], before: StylusSample | None, spacing_m: float
+) -> list[StylusSample]:
+    """The samples of ``batch`` (all that arrived since the last pass) worth a step: the last one
+    before each pen-down/pen-up change, the touch-down itself, the newest sample, and, while the
+    pen is down, a sample wherever the tip has moved ``spacing_m`` since the last one kept (from
+    ``before``, the previous pass's newest), so a stroke stays a trail however far behind the
+    worker is; the spacing widens so that at most about ``MAX_TRAIL_STEPS`` are kept for travel."""
+    travel = 0.0
+    prev = before
+    for s in batch:
+        if prev is not None and s.pressure > 0 and prev.pressure > 0:
+            travel += float(np.hypot(*(s.position_m[:2] - prev.position_m[:2])))
+        prev = s
+    spacing_m = max(spacing_m, travel / MAX_TRAIL_STEPS)  # a long backlog: wider, bounded steps
+    keep: list[StylusSample] = []
+    last = before
+    for i, s in enumerate(batch):
+        newest = i == len(batch) - 1
+        transition = not newest and (s.pressure > 0) != (batch[i + 1].pressure > 0)
+        down = s.pressure > 0
+        touch_down = down and (last is None or last.pressure <= 0)
+        far = (
+            down
+            and not touch_down
+            and last is not None
+            and float(np.hypot(*(s.position_m[:2] - last.position_m[:2]))) >= spacing_m
+        )
+        if newest or transition or touch_down or far:
+            keep.append(s)
+            last = s
+    return keep
