@@ -11,6 +11,7 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 
@@ -315,6 +316,23 @@ def _settings(t: Table) -> SolverSettings:
             "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
         ),
         pressure_scheme=t.string("pressure_scheme", "auto", choices=list(PRESSURE_SCHEMES)),
+        **preconditioner_keys(t),
+    )
+    t.finish()
+    return s
+
+
+class PreconditionerKeys(TypedDict):
+    """Keyword arguments of :class:`SolverSettings` for its preconditioners."""
+
+    preconditioner: str
+    viscosity_preconditioner: str
+
+
+def preconditioner_keys(t: Table) -> PreconditionerKeys:
+    """The ``preconditioner`` and ``viscosity_preconditioner`` keys of a ``[solver]`` table (a
+    scene's or a paint scene's), defaults filled in, choices checked."""
+    return PreconditionerKeys(
         preconditioner=t.string(
             "preconditioner", SolverSettings.preconditioner, choices=list(PRECONDITIONERS)
         ),
@@ -324,8 +342,6 @@ def _settings(t: Table) -> SolverSettings:
             choices=list(VISCOSITY_PRECONDITIONERS),
         ),
     )
-    t.finish()
-    return s
 
 
 def _run(t: Table) -> RunSpec:

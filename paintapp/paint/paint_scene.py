@@ -47,7 +47,8 @@ from pathlib import Path
 from common.errors import InputError
 from common.tables import Table
 from paintapp.resources import asset_path
-from solver.solver_settings import PRECONDITIONERS, VISCOSITY_PRECONDITIONERS, SolverSettings
+from solver.scene import preconditioner_keys
+from solver.solver_settings import SolverSettings
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
@@ -204,14 +205,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
             viscosity_tolerance=solver.number("viscosity_tolerance", 1e-6, minimum=1e-12),
             max_iterations=solver.integer("max_iterations", 400, minimum=1),
-            preconditioner=solver.string(
-                "preconditioner", SolverSettings.preconditioner, choices=list(PRECONDITIONERS)
-            ),
-            viscosity_preconditioner=solver.string(
-                "viscosity_preconditioner",
-                SolverSettings.viscosity_preconditioner,
-                choices=list(VISCOSITY_PRECONDITIONERS),
-            ),
+            **preconditioner_keys(solver),
         ),
         description=description,
         choose=parse_choice(choose),
