@@ -31,6 +31,8 @@ from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, e
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.paint_scene import PaintScene
+from paintapp.paint.texel_velocity import column_face_velocity
+from paintapp.paint.wet_flow import flow_wet_paint
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
 from solver.probes import Probe
@@ -139,16 +141,26 @@ class PaintGrid3D(PaintModel):
             names = [self.canvas.pigment_names[p] for p in used]
             report = self._exchange(q, pose, dt_s, reservoir, names)
             clock.mark("exchange")
-            substeps = transport(q, sim.state.comps, sim.state.face_types, 3, h, dt_s)
+            if self.scene.texel_flow:
+                flow = column_face_velocity(q.sum(axis=0), sim.state.comps, sim.state.face_types)
+                if not all(np.isfinite(f).all() for f in flow):
+                    raise FloatingPointError("non-finite velocity in the paint grid")
+            else:
+                substeps = transport(q, sim.state.comps, sim.state.face_types, 3, h, dt_s)
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
             return PaintStep(step_ms=clock.total_ms)
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before).sum(axis=3) * h
-        self.window.write_back(
-            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns
-        )
+        texture = self.texture(pose, centre_m)
+        self.window.write_back(self.canvas, delta, texture, gathered=all_columns)
+        if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
+            try:
+                substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, texture)
+            except FloatingPointError:
+                self._reset(pose)
+                return PaintStep(step_ms=clock.total_ms, exchange=report)
         clock.mark("write")
         found = sim.forces.get(PROBE)
         force, torque = (

@@ -20,6 +20,8 @@ A scene file::
     drying_rate_per_s = 0.01        # wetness decays as exp(-rate t)
     max_height_m = 0.002            # depth_averaged: tallest wet column a cell holds
     settle_on_lift = true           # the paint flows back into the tip's footprint at lift-off
+    texel_flow = false              # grid3d: true lets the grid's flow move the canvas's texels
+                                    # (false: the columns' transported change is spread to them)
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
@@ -112,6 +114,9 @@ class PaintScene:
         max_height_m: tallest wet paint column a depth-averaged cell accepts from the brush, m.
         settle_on_lift: at lift-off the wet paint flows back into the tip's footprint
             (:meth:`paintapp.paint.paint_model.PaintModel.settle`); False leaves its print.
+        texel_flow: the 3D grid's depth-averaged flow moves the canvas's wet paint on the
+            texels (:mod:`paintapp.paint.wet_flow`); False transports the paint in the grid's
+            columns and spreads each column's change over its texels.
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
@@ -132,6 +137,7 @@ class PaintScene:
     drying_rate_per_s: float = 0.01
     max_height_m: float = 0.002
     settle_on_lift: bool = True
+    texel_flow: bool = False
     pickup_fraction: float = 0.3
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
@@ -199,6 +205,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
             "max_height_m", 0.002, minimum=1e-5, exclusive=True, maximum=0.05
         ),
         settle_on_lift=_boolean(paint, "settle_on_lift", True),
+        texel_flow=_boolean(paint, "texel_flow", False),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(

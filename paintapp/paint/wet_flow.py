@@ -1,0 +1,143 @@
+"""Moving the canvas's wet paint with the paint grid's flow, at texel resolution.
+
+The grid's columns are a cell wide (several texels). Transporting the paint in the columns and
+handing each column's change to its texels lays every change out with the same per-column
+weights, so detail finer than a cell (a stroke's edge, a bristle streak) is smoothed to the
+cell and re-drawn on the cell's lattice at every step. Here the grid supplies only the velocity:
+its depth-averaged flow (:mod:`paintapp.paint.texel_velocity`) moves each pigment's wet paint
+over the texels under the grid's on-canvas columns with a limited flux-form upwind scheme
+(:mod:`paintapp.paint.texel_flow`), sub-stepped so that no texel sends out more than it holds.
+
+Each texel's paint ``P_p`` and wetness ``w`` split into a wet part ``w P_p``, which moves, and a
+dry part ``(1 - w) P_p``, which stays put; afterwards the wetness is the wet share of the new
+total (as :meth:`paintapp.paint.columns.ColumnWindow.write_back` does). Nothing crosses the
+outline of the on-canvas columns, so each pigment is conserved to round-off (the canvas stores
+float32), and no texel goes negative. A texel the flow reached, unpainted before and left with at most
+:data:`paintapp.canvas.model.FILM_FLOOR_M` of paint hands its wet paint to its richest neighbour
+(repeatedly, so the flow's thin leading edge runs back into the paint instead of painting
+the canvas beyond it). Texels that do not change are not written.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from paintapp.canvas.model import FILM_FLOOR_M, Canvas
+from paintapp.canvas.regions import Box
+from paintapp.paint.columns import FULLY_WET, ColumnWindow, TexelWeights
+from paintapp.paint.texel_flow import advance, substeps_needed, sweep_residues
+from paintapp.paint.texel_velocity import texel_face_velocity
+
+#: Passes of the thin-edge sweep beyond one per sub-step (each moves a residue one texel).
+RESIDUE_PASSES = 4
+
+
+def columns_box(window: ColumnWindow) -> Box | None:
+    """Texels (x0, y0, x1, y1) of the window's on-canvas columns' blocks, or None."""
+    r = window.on_canvas_range()
+    if r is None:
+        return None
+    (ox, oy), k = window.origin_texel, window.k
+    return ox + r[0] * k, oy + r[2] * k, ox + r[1] * k, oy + r[3] * k
+
+
+def _paint_box(wet: np.ndarray, margin: int) -> tuple[int, int, int, int] | None:
+    """Bounding box (x0, y0, x1, y1), in ``wet``'s indices, of its non-zero texels widened by
+    ``margin`` (clipped), or None."""
+    rows = np.flatnonzero(wet.any(axis=1))
+    if rows.size == 0:
+        return None
+    cols = np.flatnonzero(wet.any(axis=0))
+    ny, nx = wet.shape
+    return (max(cols[0] - margin, 0), max(rows[0] - margin, 0),
+            min(cols[-1] + 1 + margin, nx), min(rows[-1] + 1 + margin, ny))  # fmt: skip
+
+
+def flow_wet_paint(
+    canvas: Canvas,
+    window: ColumnWindow,
+    face_u: np.ndarray,
+    face_v: np.ndarray,
+    dt_s: float,
+    texture: TexelWeights | None = None,
+) -> int:
+    """Move the wet paint under the window for ``dt_s`` seconds with the columns' face
+    velocities ``face_u`` (nx + 1, ny), ``face_v`` (nx, ny + 1), m/s
+    (:func:`paintapp.paint.texel_velocity.column_face_velocity`). Returns the sub-steps taken."""
+    region = columns_box(window)
+    if region is None or dt_s <= 0.0 or not canvas.pigment_names:
+        return 0
+    x0, y0, x1, y1 = region
+    wetness = canvas.wetness[y0:y1, x0:x1]
+    if not wetness.any():
+        return 0
+    ux, vy = texel_face_velocity(face_u, face_v, window.origin_texel, window.k, region,
+                                 window.texel_m)  # fmt: skip
+    n = substeps_needed(ux, vy, dt_s)
+    crop = _paint_box(wetness > 0.0, n + 1)
+    if crop is None:
+        return 0
+    a0, b0, a1, b1 = crop
+    ux, vy = ux[b0:b1, a0 : a1 + 1].copy(), vy[b0 : b1 + 1, a0:a1].copy()
+    ux[:, [0, -1]] = 0.0
+    vy[[0, -1], :] = 0.0
+    box = (x0 + a0, y0 + b0, x0 + a1, y0 + b1)
+    shape = texture.weights(box) if texture is not None else None
+    if shape is not None:
+        ux, vy = combed(ux, vy, shape[1])
+    _move(canvas, box, ux, vy, dt_s, n)
+    return n
+
+
+def combed(ux: np.ndarray, vy: np.ndarray, loss: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Face velocities scaled by the bristles' loss weights (ny, nx) over their mean (at most 1),
+    taken on the two texels beside each face: paint under a clump moves slower than in the
+    grooves between them, which combs it into streaks along the motion. The weights are even
+    (one value) beyond the footprint, so the flow is unchanged there; nowhere is it faster, so
+    the sub-steps still hold."""
+    values, counts = np.unique(loss, return_counts=True)
+    even = float(values[np.argmax(counts)])  # the one value every texel beyond the band holds
+    w = np.minimum(loss / even, 1.0)
+    fx = np.ones_like(ux)
+    fx[:, 1:-1] = 0.5 * (w[:, 1:] + w[:, :-1])
+    fy = np.ones_like(vy)
+    fy[1:-1, :] = 0.5 * (w[1:, :] + w[:-1, :])
+    return ux * fx, vy * fy
+
+
+def _move(canvas: Canvas, box: Box, ux: np.ndarray, vy: np.ndarray, dt_s: float, n: int) -> None:
+    """Advance the wet paint of ``box`` by ``n`` sub-steps and write the texels that changed."""
+    x0, y0, x1, y1 = box
+    paint = canvas.paint_m[:, y0:y1, x0:x1].astype(np.float64)
+    wet = canvas.wetness[y0:y1, x0:x1].astype(np.float64)
+    wet[wet >= FULLY_WET] = 1.0  # float32 round-off of fresh paint is no dry residue
+    mobile = paint * wet
+    used = np.flatnonzero(mobile.reshape(len(paint), -1).any(axis=1))
+    if used.size == 0:
+        return
+    moved = np.ascontiguousarray(mobile[used])
+    advance(moved, ux, vy, dt_s, n)
+    dry = paint * (1.0 - wet)
+    changed = np.any(moved != mobile[used], axis=0)
+    dry_total = dry.sum(axis=0)
+    eligible = changed & ~paint.any(axis=0)
+    for _ in range(RESIDUE_PASSES + n):
+        if not sweep_residues(dry_total, moved, FILM_FLOOR_M, eligible, changed):
+            break
+    if not changed.any():
+        return
+    new_mobile = mobile.copy()
+    new_mobile[used] = moved
+    new_paint = dry + new_mobile
+    total = new_paint.sum(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
+    rows = np.flatnonzero(changed.any(axis=1))
+    cols = np.flatnonzero(changed.any(axis=0))
+    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+    keep = ~changed[r0:r1, c0:c1]
+    out_paint = new_paint[:, r0:r1, c0:c1]
+    out_wet = new_wet[r0:r1, c0:c1]
+    out_paint[:, keep] = paint[:, r0:r1, c0:c1][:, keep]
+    out_wet[keep] = canvas.wetness[y0 + r0 : y0 + r1, x0 + c0 : x0 + c1][keep]
+    canvas.write_region(x0 + c0, y0 + r0, out_paint, np.clip(out_wet, 0.0, 1.0))
