@@ -6,7 +6,9 @@ velocity sample points (face centres), only in a window around each probe. From 
 * the **open fraction** ``w`` of every face (the part of its length, 2D, or area, 3D, outside all
   probes): exact for a linear SDF along a 2D face, and Batty's square rule (the corners' marching
   squares) on a 3D face; fractions below ``MIN_FRACTION`` are closed (no tiny cut faces in the
-  pressure matrix);
+  pressure matrix: a sliver of a face between a probe and a wall would otherwise carry the
+  probe's whole displaced volume, hundreds of m/s, into the flow; a cell whose faces are all
+  closed leaves the pressure system);
 * the **fluid fraction** of every cell (2D: the square rule on its corners; 3D: the mean of its
   six faces' open fractions);
 * the probe that owns each face's solid part (the nearest surface), whose rigid velocity enters
@@ -27,7 +29,7 @@ from solver.grid import Grid
 from solver.probes import Probe
 
 FAR = 1e30
-MIN_FRACTION = 0.0
+MIN_FRACTION = 0.1
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -2,14 +2,18 @@
 
 A probe has a shape (see :mod:`solver.shapes`), a pose (centre and orientation) and a rigid
 motion (linear velocity, angular velocity). It moves either at its set velocities or along a
-keyframed path, linearly interpolated (orientations by slerp in 3D). Within a step its velocities
-are the average over the step, so that the voxelized body moves by exactly the displacement its
-boundary velocities describe.
+keyframed path, interpolated linearly (orientations by slerp in 3D) or by a cubic spline
+(``path_interpolation = "cubic"``: positions and 2D angles by a not-a-knot cubic spline, 3D
+orientations by scipy's ``RotationSpline``), whose velocity is continuous: a linear path's velocity
+jumps at every keyframe, and the fluid answers each jump with an added-mass impulse. Within a step
+its velocities are the average over the step, so that the voxelized body moves by exactly the
+displacement its boundary velocities describe.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,6 +21,35 @@ import numpy as np
 from common import quaternion as rotation
 from solver.grid import Grid
 from solver.shapes import Shape
+
+PATH_INTERPOLATIONS = ("linear", "cubic")
+Pose = tuple[np.ndarray, np.ndarray | float]
+
+
+def cubic_path(path: np.ndarray, dim: int) -> Callable[[float], Pose]:
+    """Pose at time t (inside the keyframes' span) on a cubic spline through ``path``."""
+    from scipy.interpolate import CubicSpline
+    from scipy.spatial.transform import Rotation, RotationSpline
+
+    times = path[:, 0]
+    kind = "not-a-knot" if len(times) > 3 else "natural"
+    if dim == 2:
+        spline = CubicSpline(times, path[:, 1:4], axis=0, bc_type=kind)
+
+        def pose2(t_s: float) -> Pose:
+            row = spline(t_s)
+            return np.asarray(row[:2], dtype=float), float(row[2])
+
+        return pose2
+    centres = CubicSpline(times, path[:, 1:4], axis=0, bc_type=kind)
+    quats = np.array([rotation.normalise(q) for q in path[:, 4:8]])
+    spin = RotationSpline(times, Rotation.from_quat(quats[:, [1, 2, 3, 0]]))  # scipy: x, y, z, w
+
+    def pose3(t_s: float) -> Pose:
+        x, y, z, w = spin(t_s).as_quat()
+        return np.asarray(centres(t_s), dtype=float), rotation.normalise(np.array([w, x, y, z]))
+
+    return pose3
 
 
 @dataclass
@@ -32,6 +65,7 @@ class Probe:
         velocity_m_s: linear velocity, shape (dim,).
         angular_velocity_rad_s: 2D scalar, 3D vector (3,).
         path: optional keyframes, shape (n, 1 + dim + (1 or 4)): t, position, angle/quaternion.
+        path_interpolation: ``"linear"`` or ``"cubic"`` (see the module docstring).
         reference_m: torque reference point in the body frame, shape (dim,) (default: origin).
     """
 
@@ -44,6 +78,8 @@ class Probe:
     angular_velocity_rad_s: np.ndarray | float = 0.0
     path: np.ndarray | None = None
     reference_m: np.ndarray | None = None
+    path_interpolation: str = "linear"
+    _spline: Callable[[float], Pose] | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         d = self.dim
@@ -61,8 +97,12 @@ class Probe:
             self.angular_velocity_rad_s = float(self.angular_velocity_rad_s)
         if self.reference_m is None:
             self.reference_m = np.zeros(d)
+        if self.path_interpolation not in PATH_INTERPOLATIONS:
+            raise ValueError(f"path_interpolation must be one of {PATH_INTERPOLATIONS}")
         if self.path is not None:
             self.path = np.asarray(self.path, dtype=float)
+            if self.path_interpolation == "cubic" and len(self.path) > 1:
+                self._spline = cubic_path(self.path, d)
             self.centre_m, self.orientation = self.pose_at(float(self.path[0, 0]))
 
     # -- pose -------------------------------------------------------------------------------
@@ -77,6 +117,8 @@ class Probe:
         if t_s >= times[-1]:
             row = self.path[-1]
             return row[1 : 1 + d].copy(), self._orientation_of(row)
+        if self._spline is not None:
+            return self._spline(t_s)
         n = int(np.searchsorted(times, t_s, side="right")) - 1
         t0, t1 = times[n], times[n + 1]
         f = 0.0 if t1 <= t0 else (t_s - t0) / (t1 - t0)
@@ -122,6 +164,7 @@ class Probe:
         Clears any keyframed path.
         """
         self.path = None
+        self._spline = None
         centre = np.asarray(centre_m, dtype=float).reshape(self.dim)
         self.velocity_m_s = (centre - self.centre_m) / dt_s
         if self.dim == 2:

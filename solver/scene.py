@@ -21,7 +21,7 @@ from solver.advection import SCHEMES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.drag_models import MODELS
 from solver.grid import Grid
-from solver.probes import Probe
+from solver.probes import PATH_INTERPOLATIONS, Probe
 from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
 from solver.solver_settings import (
@@ -90,6 +90,7 @@ class Scene:
                 p.angular_velocity_rad_s,
                 p.path,
                 p.reference_m,
+                p.path_interpolation,
             )
             for p in self.probes
         ]
@@ -232,8 +233,10 @@ def _probe(t: Table, grid: Grid) -> Probe:
     velocity = np.array(t.vector("velocity", dim, (0.0,) * dim))
     reference = np.array(t.vector("reference", dim, (0.0,) * dim))
     path = _path(t, grid) if t.has("path") else None
+    interpolation = t.string("path_interpolation", "linear", choices=list(PATH_INTERPOLATIONS))
     t.finish()
-    return Probe(name, shape, dim, np.array(centre), orientation, velocity, omega, path, reference)
+    return Probe(name, shape, dim, np.array(centre), orientation, velocity, omega, path, reference,
+                 interpolation)  # fmt: skip
 
 
 def _path(t: Table, grid: Grid) -> np.ndarray:

@@ -347,7 +347,7 @@ class Simulation:
         st.pressure = _shifted(st.pressure, off)
         self._was_active = _shifted(self._was_active, off)
         self._rasterize()
-        self._apply_boundaries()
+        self._apply_boundaries(relax=False)
 
     # -- geometry and boundaries -------------------------------------------------------------
     def _rasterize(self) -> None:
@@ -377,7 +377,9 @@ class Simulation:
             ref[i, :d] = probe.reference_point() - origin[:d]
         return centre, vel, omega, ref
 
-    def _apply_boundaries(self) -> None:
+    def _apply_boundaries(self, relax: bool = True) -> None:
+        """Boundary velocities on the faces; ``relax``: the once-per-step relaxation of the
+        samples inside cut-cell probes (see :func:`solver.cut_viscosity.mark_probe_samples`)."""
         g, st = self.grid, self.state
         centre, vel, omega, _ = self._motion
         rigid = np.stack([centre, vel, omega])
@@ -402,8 +404,7 @@ class Simulation:
                     face_hi = hi + np.eye(3, dtype=np.int64)[a]
                     mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
                                        cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
-                                       rigid,
-                                       g.cell_size_m)  # fmt: skip
+                                       rigid, g.cell_size_m, relax)  # fmt: skip
         self.boundary.apply_normal(st.comps)
 
     # -- forces ---------------------------------------------------------------------------------
@@ -512,6 +513,16 @@ class Simulation:
             )
 
     # -- diagnostics --------------------------------------------------------------------------
+    def fluid_cells(self) -> np.ndarray:
+        """Mask of the cells the projection solves for: fluid cells (staircase), or cells with an
+        open face (cut cells; a sliver whose faces are all below the minimum fraction is not)."""
+        if self.cut is not None:
+            g = self.grid
+            return pressure_system(
+                self._static_label, g.dim, self._kinds, self.cut.open_frac
+            ).active
+        return self.state.label == FLUID
+
     def divergence(self) -> np.ndarray:
         """Velocity divergence per cell (1/s), 0 in solid cells."""
         st, g = self.state, self.grid

@@ -14,9 +14,9 @@ class SolverSettings:
     approximations). ``probe_forces = False`` skips all force work (nothing reads the forces,
     e.g. a tablet without force feedback): ``Simulation.forces`` stays empty.
 
-    ``boundary_method``: ``cutcell`` (face fractions from the probes' signed distances, the
-    variational projection, no-slip at the true surface, force from the cut surface) or
-    ``staircase`` (the paper's voxelized probe, eqs. 14-18). ``pressure_scheme``: ``incremental``
+    ``boundary_method``: ``cutcell`` (the default: face fractions from the probes' signed
+    distances, the variational projection, no-slip at the true surface, force from the cut
+    surface) or ``staircase`` (the paper's voxelized probe, eqs. 14-18; for comparison). ``pressure_scheme``: ``incremental``
     (pressure correction: steady states independent of dt), ``chorin`` (the paper's
     non-incremental projection) or ``auto`` (incremental with cut cells, chorin with the
     staircase).
@@ -37,7 +37,7 @@ class SolverSettings:
     drag_coefficient: float = 1.0
     control_volume_margin: int = 3
     probe_forces: bool = True
-    boundary_method: str = "staircase"
+    boundary_method: str = "cutcell"
     pressure_scheme: str = "auto"
     preconditioner: str = "multigrid"
     viscosity_preconditioner: str = "auto"

@@ -58,7 +58,9 @@ def test_stokes_force_and_torque_scale_with_viscosity(build, dim):
 
     The flow is driven by a slow parabolic inflow (Re ~ 1e-3). The implicit viscosity's one
     numerical parameter, nu dt / h^2, is held fixed (dt halves as nu doubles), so the discrete
-    steady states are comparable and force and torque must double exactly.
+    steady states are comparable and force and torque must double exactly. The incremental
+    pressure scheme (the default with cut cells) takes longer to settle: force ratios 2.054 /
+    2.014 / 1.9997 at t = 1 / 2 / 3 s in 2D (3D: 2.040 / 2.009 / 1.9993), so it runs 3 s.
     """
     n = 32 if dim == 2 else 16
     results = []
@@ -70,7 +72,7 @@ def test_stokes_force_and_torque_scale_with_viscosity(build, dim):
             "x_min": Side("inflow", (0.01, 0.0, 0.0)[:dim], "parabolic"),
             "x_max": Side("outflow"),
         }
-        sim = _run(build.sim(n, dim, nu=nu, probes=[probe], sides=sides), round(1.0 / dt), dt)
+        sim = _run(build.sim(n, dim, nu=nu, probes=[probe], sides=sides), round(3.0 / dt), dt)
         results.append(sim.forces["probe"])
     ratio_f = np.linalg.norm(results[1].force) / np.linalg.norm(results[0].force)
     ratio_t = np.linalg.norm(results[1].torque) / np.linalg.norm(results[0].torque)

@@ -78,3 +78,36 @@ def test_shifting_the_grid_keeps_the_fluid_in_place(build):
     assert np.allclose(np.array(sim.grid.origin_m) - origin, [2 / 16, -1 / 16, 0.0])
     assert sim.state.comps[0][3, 8, 0] == 1.0
     assert sim.state.comps[0].sum() == 1.0
+
+
+def _arc(dim: int) -> np.ndarray:
+    """Keyframes every 0.1 s on a circle of radius 0.2 m at 1 rad/s, turning at 2 rad/s."""
+    t = np.arange(0.0, 2.01, 0.1)
+    x, y = 0.5 + 0.2 * np.cos(t), 0.5 + 0.2 * np.sin(t)
+    if dim == 2:
+        return np.stack([t, x, y, 2.0 * t], axis=1)
+    quats = [rotation.from_rotation_vector(np.array([0.0, 0.0, 2.0 * s])) for s in t]
+    return np.array([[s, a, b, 0.5, *q] for s, a, b, q in zip(t, x, y, quats, strict=True)])
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_cubic_path_keeps_the_velocity_continuous_across_keyframes(dim):
+    """A linear path's velocity jumps at each keyframe (0.1 s apart: by 0.02 m/s, a kink in the
+    step velocities); the cubic spline's follows the sampled motion's (0.2 m/s, 2 rad/s) without
+    kinks, and both pass through the keyframes."""
+    path = _arc(dim)
+    jumps = {}
+    for kind in ("linear", "cubic"):
+        p = Probe("p", Ball(0.05), dim, np.zeros(dim), path=path, path_interpolation=kind)
+        vel, spin = [], []
+        for n in range(20, 180):
+            p.advance(n * 0.01, 0.01)
+            vel.append(p.velocity_m_s.copy())
+            spin.append(np.ravel(p.angular_velocity_rad_s)[-1])
+        assert np.allclose(p.pose_at(1.0)[0], path[10, 1 : 1 + dim])
+        v = np.array(vel)
+        assert np.allclose(np.linalg.norm(v, axis=1), 0.2, rtol=0.02)
+        assert np.allclose(spin, 2.0, rtol=1e-3)
+        assert np.abs(np.diff(v, axis=0)).max() < 0.02 * 1.05  # at most v * 0.1 rad per step
+        jumps[kind] = float(np.abs(np.diff(v, n=2, axis=0)).max())  # a kink in the velocity
+    assert jumps["cubic"] < 0.01 * jumps["linear"]

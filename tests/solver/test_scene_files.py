@@ -60,6 +60,8 @@ def test_bundled_scenes_load():
     for name in names:
         scene = load_scene(asset_path("scenes", f"{name}.toml"))
         assert scene.run.steps >= 1
+    sweep = load_scene(asset_path("scenes", "paper_square_sweep.toml"))
+    assert sweep.build().probes[0].path_interpolation == "cubic"
 
 
 @pytest.mark.parametrize(
@@ -90,6 +92,12 @@ def test_bundled_scenes_load():
             "radius = 0.05\npath = [[0.0, 0.3, 0.25, 0.0], [0.0, 0.4, 0.25, 0.0]]",
             "probes[0].path",
             "increase",
+        ),
+        (
+            "radius = 0.05",
+            'radius = 0.05\npath_interpolation = "smooth"',
+            "probes[0].path_interpolation",
+            "cubic",
         ),
         ("[run]", '[solver]\npreconditioner = "ilu"\n\n[run]', "solver.preconditioner", "mic0"),
         (
