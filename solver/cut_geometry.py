@@ -158,6 +158,9 @@ class CutGeometry:
         owner_face: probe owning each face's solid part (-1 when the face is open).
         owner_sample: nearest probe at each face centre (-1 far from all).
         fluid_frac: fluid volume fraction per cell.
+        phi_cell: min probe SDF at the cell centres, m.
+        owner_cell: the probe whose SDF is that minimum where it is ``<= 0`` (the cell's centre
+            lies inside it: the voxelized label), -1 elsewhere.
         windows: the cell windows (lo, hi) recomputed at the last update.
     """
 
@@ -168,6 +171,8 @@ class CutGeometry:
     owner_face: list[np.ndarray]
     owner_sample: list[np.ndarray]
     fluid_frac: np.ndarray
+    phi_cell: np.ndarray
+    owner_cell: np.ndarray
     windows: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
 
     @classmethod
@@ -183,6 +188,8 @@ class CutGeometry:
             owner_face=[np.full(s, -1, dtype=np.int32) for s in shapes],
             owner_sample=[np.full(s, -1, dtype=np.int32) for s in shapes],
             fluid_frac=np.ones(grid.cells),
+            phi_cell=np.full(grid.cells, FAR),
+            owner_cell=np.full(grid.cells, -1, dtype=np.int32),
         )
 
     def _reset(self, dim: int) -> None:
@@ -192,6 +199,8 @@ class CutGeometry:
             self.phi_node[node] = FAR
             self.owner_node[node] = -1
             self.fluid_frac[cell] = 1.0
+            self.phi_cell[cell] = FAR
+            self.owner_cell[cell] = -1
             for a in range(3):
                 face = tuple(slice(lo[b], hi[b] + (1 if b == a else 0)) for b in range(3))
                 self.phi_face[a][face] = FAR
@@ -209,12 +218,7 @@ class CutGeometry:
             if np.any(hi <= lo):
                 continue
             self.windows.append((lo, hi))
-            node_hi = hi + np.array([1, 1, 1 if d == 3 else 0])
-            _sample_sdf(grid, probe, n, lo, node_hi, None, self.phi_node, self.owner_node)
-            for a in range(d):
-                face_hi = hi + np.eye(3, dtype=np.int64)[a]
-                _sample_sdf(grid, probe, n, lo, face_hi, a, self.phi_face[a],
-                            self.owner_sample[a])  # fmt: skip
+            _sample_sdf(grid, probe, n, lo, hi, self)
         for lo, hi in self.windows:
             for a in range(d):
                 face_hi = hi + np.eye(3, dtype=np.int64)[a]
@@ -238,30 +242,32 @@ def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray,
 
 
 def _sample_sdf(
-    grid: Grid,
-    probe: Probe,
-    index: int,
-    lo: np.ndarray,
-    hi: np.ndarray,
-    axis: int | None,
-    phi: np.ndarray,
-    owner: np.ndarray | None,
+    grid: Grid, probe: Probe, index: int, lo: np.ndarray, hi: np.ndarray, geo: CutGeometry
 ) -> None:
-    """Take the min of ``phi`` and the probe's SDF at nodes (axis None) or face centres."""
+    """Take the min of the stored SDFs and probe ``index``'s over the window ``lo..hi`` (cells):
+    at the nodes and at the face centres, all of them points of one half-cell lattice, so the
+    probe's SDF is evaluated once."""
     h = grid.cell_size_m
     d = grid.dim
-    axes = []
-    for a in range(d):
-        offset = 0.0 if (axis is None or a == axis) else 0.5
-        axes.append(grid.origin_m[a] + (np.arange(lo[a], hi[a]) + offset) * h)
+    axes = [grid.origin_m[a] + (lo[a] + 0.5 * np.arange(2 * (hi[a] - lo[a]) + 1)) * h
+            for a in range(d)]  # fmt: skip
     pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
     body = (pts - probe.centre_m) @ probe.rotation_matrix()
     sdf = np.asarray(probe.shape.sdf(body), dtype=float)
     if d == 2:
-        sdf = np.repeat(sdf[:, :, None], hi[2] - lo[2], axis=2)
-    window = tuple(slice(lo[a], hi[a]) for a in range(3))
-    sub = phi[window]
-    closer = sdf < sub
-    sub[closer] = sdf[closer]
-    if owner is not None:
-        owner[window][closer] = index
+        sdf = sdf[:, :, None]  # one layer of cells: every sample has the same SDF along z
+    even, odd, layer = slice(0, None, 2), slice(1, None, 2), slice(None)
+    targets = [(tuple(even if b < d else layer for b in range(3)), geo.phi_node, geo.owner_node)]
+    targets += [(tuple((even if b == a else odd) if b < d else layer for b in range(3)),
+                 geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]  # fmt: skip
+    targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, None)]
+    for sel, phi, owner in targets:
+        values = sdf[sel]
+        window = tuple(slice(lo[b], lo[b] + values.shape[b]) for b in range(3))
+        sub = phi[window]
+        closer = values < sub
+        sub[closer] = values[closer]
+        if owner is not None:
+            owner[window][closer] = index
+        else:
+            geo.owner_cell[window][closer & (values <= 0.0)] = index

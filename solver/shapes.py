@@ -13,6 +13,15 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 
+def _sum_of_squares(points: np.ndarray) -> np.ndarray:
+    """``sum_i points[..., i]^2``, written per component (numpy's reductions over a last axis of
+    length 2 or 3 cost several times the arithmetic)."""
+    total = points[..., 0] * points[..., 0]
+    for a in range(1, points.shape[-1]):
+        total = total + points[..., a] * points[..., a]
+    return total
+
+
 @runtime_checkable
 class Shape(Protocol):
     """A solid described by its signed distance (metres, negative inside) in its body frame."""
@@ -34,7 +43,7 @@ class Ball:
         return self.radius_m
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
-        return np.linalg.norm(points, axis=-1) - self.radius_m
+        return np.sqrt(_sum_of_squares(points)) - self.radius_m
 
     def cross_section_m(self, dim: int) -> float:
         """Projected frontal extent (2D: length per unit depth) or area (3D)."""
@@ -54,9 +63,11 @@ class Box:
     def sdf(self, points: np.ndarray) -> np.ndarray:
         half = 0.5 * np.asarray(self.size_m, dtype=float)
         q = np.abs(points) - half
-        outside = np.linalg.norm(np.maximum(q, 0.0), axis=-1)
-        inside = np.minimum(np.max(q, axis=-1), 0.0)
-        return outside + inside
+        outside = np.sqrt(_sum_of_squares(np.maximum(q, 0.0)))
+        inside = q[..., 0]
+        for a in range(1, q.shape[-1]):
+            inside = np.maximum(inside, q[..., a])
+        return outside + np.minimum(inside, 0.0)
 
     def cross_section_m(self, dim: int) -> float:
         """Frontal extent across x (2D: height) or frontal area across x (3D)."""

@@ -356,12 +356,15 @@ class Simulation:
         label[:] = FLUID
         label[self.static_solid] = STATIC_SOLID
         self._static_label[:] = label
+        if self.cut is not None:  # the cut geometry samples the cell centres too
+            self.cut.update(self.grid, self.probes)
+            inside = (self.cut.owner_cell >= 0) & (label == FLUID)
+            label[inside] = self.cut.owner_cell[inside]
+            return
         for n, probe in enumerate(self.probes):
             window, mask = probe.voxelize(self.grid)
             sub = label[window]
             sub[mask & (sub == FLUID)] = n
-        if self.cut is not None:
-            self.cut.update(self.grid, self.probes)
 
     def rigid_motion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per-probe centre, velocity, angular velocity and torque reference, each (n, 3),
