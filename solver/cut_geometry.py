@@ -260,14 +260,13 @@ def _sample_sdf(
     targets = [(tuple(even if b < d else layer for b in range(3)), geo.phi_node, geo.owner_node)]
     targets += [(tuple((even if b == a else odd) if b < d else layer for b in range(3)),
                  geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]  # fmt: skip
-    targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, None)]
+    targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, geo.owner_cell)]
     for sel, phi, owner in targets:
         values = sdf[sel]
         window = tuple(slice(lo[b], lo[b] + values.shape[b]) for b in range(3))
         sub = phi[window]
         closer = values < sub
         sub[closer] = values[closer]
-        if owner is not None:
-            owner[window][closer] = index
-        else:
-            geo.owner_cell[window][closer & (values <= 0.0)] = index
+        if owner is geo.owner_cell:
+            closer &= values <= 0.0  # a cell belongs to the probe its centre lies inside
+        owner[window][closer] = index
