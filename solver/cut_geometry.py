@@ -45,46 +45,58 @@ def fraction_inside_segment(a, b):
 
 
 @njit(cache=True, nogil=True)
+def _corner(c0, c1, c2, c3, i):
+    """Corner ``i % 4`` of a square with corners ``c0..c3`` in cyclic order."""
+    i = i % 4
+    if i == 0:
+        return c0
+    if i == 1:
+        return c1
+    if i == 2:
+        return c2
+    return c3
+
+
+@njit(cache=True, nogil=True)
 def fraction_inside_square(c0, c1, c2, c3):
-    """Fraction of a square inside, corners ``c0..c3`` in cyclic order (Batty's rule)."""
-    lst = np.array([c0, c1, c2, c3])
+    """Fraction of a square inside, corners ``c0..c3`` in cyclic order (Batty's rule). The
+    corners are read cyclically from a start corner ``o`` chosen per case (no arrays: this runs
+    for every face near a probe in 3D, every step)."""
     inside = (c0 < 0) + (c1 < 0) + (c2 < 0) + (c3 < 0)
     if inside == 4:
         return 1.0
     if inside == 0:
         return 0.0
+    o = 0
+    if inside == 3:  # start at the one corner outside
+        while _corner(c0, c1, c2, c3, o) < 0:
+            o += 1
+    elif inside == 1:  # start at the one corner inside
+        while _corner(c0, c1, c2, c3, o) >= 0:
+            o += 1
+    else:  # start at an inside corner followed by another inside corner one or two steps on
+        while _corner(c0, c1, c2, c3, o) >= 0 or not (
+            _corner(c0, c1, c2, c3, o + 1) < 0 or _corner(c0, c1, c2, c3, o + 2) < 0
+        ):
+            o += 1
+    l0 = _corner(c0, c1, c2, c3, o)
+    l1 = _corner(c0, c1, c2, c3, o + 1)
+    l2 = _corner(c0, c1, c2, c3, o + 2)
+    l3 = _corner(c0, c1, c2, c3, o + 3)
     if inside == 3:
-        while lst[0] < 0:
-            lst = np.roll(lst, 1)
-        s0 = 1.0 - fraction_inside_segment(lst[0], lst[3])
-        s1 = 1.0 - fraction_inside_segment(lst[0], lst[1])
+        s0 = 1.0 - fraction_inside_segment(l0, l3)
+        s1 = 1.0 - fraction_inside_segment(l0, l1)
         return 1.0 - 0.5 * s0 * s1
     if inside == 1:
-        while lst[0] >= 0:
-            lst = np.roll(lst, 1)
-        s0 = fraction_inside_segment(lst[0], lst[3])
-        s1 = fraction_inside_segment(lst[0], lst[1])
-        return 0.5 * s0 * s1
-    while lst[0] >= 0 or not (lst[1] < 0 or lst[2] < 0):
-        lst = np.roll(lst, 1)
-    if lst[1] < 0:  # the two inside corners are adjacent
-        return 0.5 * (
-            fraction_inside_segment(lst[0], lst[3]) + fraction_inside_segment(lst[1], lst[2])
-        )
-    if 0.25 * (lst[0] + lst[1] + lst[2] + lst[3]) < 0:  # diagonal, centre inside
-        a = (
-            0.5
-            * (1.0 - fraction_inside_segment(lst[0], lst[3]))
-            * (1.0 - fraction_inside_segment(lst[2], lst[3]))
-        )
-        a += (
-            0.5
-            * (1.0 - fraction_inside_segment(lst[2], lst[1]))
-            * (1.0 - fraction_inside_segment(lst[0], lst[1]))
-        )
+        return 0.5 * fraction_inside_segment(l0, l3) * fraction_inside_segment(l0, l1)
+    if l1 < 0:  # the two inside corners are adjacent
+        return 0.5 * (fraction_inside_segment(l0, l3) + fraction_inside_segment(l1, l2))
+    if 0.25 * (l0 + l1 + l2 + l3) < 0:  # diagonal, centre inside
+        a = 0.5 * (1.0 - fraction_inside_segment(l0, l3)) * (1.0 - fraction_inside_segment(l2, l3))
+        a += 0.5 * (1.0 - fraction_inside_segment(l2, l1)) * (1.0 - fraction_inside_segment(l0, l1))
         return 1.0 - a
-    a = 0.5 * fraction_inside_segment(lst[0], lst[1]) * fraction_inside_segment(lst[0], lst[3])
-    a += 0.5 * fraction_inside_segment(lst[2], lst[1]) * fraction_inside_segment(lst[2], lst[3])
+    a = 0.5 * fraction_inside_segment(l0, l1) * fraction_inside_segment(l0, l3)
+    a += 0.5 * fraction_inside_segment(l2, l1) * fraction_inside_segment(l2, l3)
     return a
 
 
@@ -241,28 +253,60 @@ def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray,
     return lo, hi
 
 
+def _lattice_sdf(probe: Probe, axes: list[np.ndarray], targets: list) -> list[np.ndarray]:
+    """The probe's SDF on each target sub-lattice of the half-cell lattice ``axes``, shaped like
+    the window of its array. 2D: every sub-lattice exactly, in one call of the SDF. 3D: at the
+    nodes only (a brush tip's SDF is by far the most expensive part of the cut geometry); a face
+    centre takes the mean of its face's four corners and a cell centre that of its eight, the
+    same corners the open fractions come from (exact for a linear SDF)."""
+    d = len(axes)
+    rot = probe.rotation_matrix()
+    if d == 2:
+        grids = [np.stack(np.meshgrid(*(axes[b][sel[b]] for b in range(d)), indexing="ij"), -1)
+                 for sel, _, _ in targets]  # fmt: skip
+        pts = np.concatenate([g.reshape(-1, d) for g in grids])
+        sdf = np.asarray(probe.shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+        parts = np.split(sdf, np.cumsum([g[..., 0].size for g in grids])[:-1])
+        return [f.reshape((*g.shape[:-1], 1)) for f, g in zip(parts, grids, strict=True)]
+    pts = np.stack(np.meshgrid(*(ax[0::2] for ax in axes), indexing="ij"), axis=-1)
+    node = np.asarray(probe.shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+    out = [node]
+    for a in range(3):
+        b, c = (n for n in range(3) if n != a)
+        lo_b, hi_b = _halves(node, b)
+        out.append(0.25 * sum(_halves(q, c)[0] + _halves(q, c)[1] for q in (lo_b, hi_b)))
+    cell = node
+    for a in range(3):
+        lo_a, hi_a = _halves(cell, a)
+        cell = 0.5 * (lo_a + hi_a)
+    out.append(cell)
+    return out
+
+
+def _halves(q: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """``q`` without its last and without its first slice along ``axis``."""
+    lo = [slice(None)] * q.ndim
+    hi = [slice(None)] * q.ndim
+    lo[axis], hi[axis] = slice(0, -1), slice(1, None)
+    return q[tuple(lo)], q[tuple(hi)]
+
+
 def _sample_sdf(
     grid: Grid, probe: Probe, index: int, lo: np.ndarray, hi: np.ndarray, geo: CutGeometry
 ) -> None:
-    """Take the min of the stored SDFs and probe ``index``'s over the window ``lo..hi`` (cells):
-    at the nodes and at the face centres, all of them points of one half-cell lattice, so the
-    probe's SDF is evaluated once."""
+    """Take the min of the stored SDFs and probe ``index``'s over the window ``lo..hi`` (cells)
+    at the nodes, the face centres and the cell centres (see :func:`_lattice_sdf`)."""
     h = grid.cell_size_m
     d = grid.dim
     axes = [grid.origin_m[a] + (lo[a] + 0.5 * np.arange(2 * (hi[a] - lo[a]) + 1)) * h
             for a in range(d)]  # fmt: skip
-    pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
-    body = (pts - probe.centre_m) @ probe.rotation_matrix()
-    sdf = np.asarray(probe.shape.sdf(body), dtype=float)
-    if d == 2:
-        sdf = sdf[:, :, None]  # one layer of cells: every sample has the same SDF along z
     even, odd, layer = slice(0, None, 2), slice(1, None, 2), slice(None)
     targets = [(tuple(even if b < d else layer for b in range(3)), geo.phi_node, geo.owner_node)]
     targets += [(tuple((even if b == a else odd) if b < d else layer for b in range(3)),
                  geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]  # fmt: skip
     targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, geo.owner_cell)]
-    for sel, phi, owner in targets:
-        values = sdf[sel]
+    values_of = _lattice_sdf(probe, axes, targets)
+    for (_, phi, owner), values in zip(targets, values_of, strict=True):
         window = tuple(slice(lo[b], lo[b] + values.shape[b]) for b in range(3))
         sub = phi[window]
         closer = values < sub

@@ -116,13 +116,7 @@ def build_cut_system(
                             continue
                         c = 0.5 * (own + scale * mu_face[ii, jj, kk])
                         t = face_type[ii, jj, kk]
-                        if phi[ii, jj, kk] <= 0.0 and owner[ii, jj, kk] >= 0:
-                            inv, wall = _cut_coupling(
-                                phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h
-                            )
-                            d += c * inv
-                            r += c * inv * wall
-                        elif t == FREE:
+                        if t == FREE:  # never inside a probe: those are marked BOUNDARY
                             d += c
                             if s > 0:
                                 if b == 0:
@@ -131,6 +125,12 @@ def build_cut_system(
                                     offy[i, j, k] = -c
                                 else:
                                     offz[i, j, k] = -c
+                        elif phi[ii, jj, kk] <= 0.0 and owner[ii, jj, kk] >= 0:
+                            inv, wall = _cut_coupling(
+                                phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h
+                            )
+                            d += c * inv
+                            r += c * inv * wall
                         elif t == INTERIOR and b != axis:
                             wall = _surface_velocity(
                                 label, rigid, axis, i, j, k, ii, jj, kk, b, s, h

@@ -315,27 +315,33 @@ def _settings(t: Table) -> SolverSettings:
         max_iterations=t.integer("max_iterations", 1000, minimum=1, maximum=MAX_ITERATIONS),
         force_model=t.string("force_model", "stress", choices=list(MODELS)),
         drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),
-        boundary_method=t.string(
-            "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
-        ),
-        pressure_scheme=t.string("pressure_scheme", "auto", choices=list(PRESSURE_SCHEMES)),
-        **preconditioner_keys(t),
+        **method_keys(t),
     )
     t.finish()
     return s
 
 
-class PreconditionerKeys(TypedDict):
-    """Keyword arguments of :class:`SolverSettings` for its preconditioners."""
+class MethodKeys(TypedDict):
+    """Keyword arguments of :class:`SolverSettings` for its boundary method, pressure scheme and
+    preconditioners."""
 
+    boundary_method: str
+    pressure_scheme: str
     preconditioner: str
     viscosity_preconditioner: str
 
 
-def preconditioner_keys(t: Table) -> PreconditionerKeys:
-    """The ``preconditioner`` and ``viscosity_preconditioner`` keys of a ``[solver]`` table (a
-    scene's or a paint scene's), defaults filled in, choices checked."""
-    return PreconditionerKeys(
+def method_keys(t: Table) -> MethodKeys:
+    """The ``boundary_method``, ``pressure_scheme``, ``preconditioner`` and
+    ``viscosity_preconditioner`` keys of a ``[solver]`` table (a scene's or a paint scene's),
+    defaults filled in, choices checked."""
+    return MethodKeys(
+        boundary_method=t.string(
+            "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
+        ),
+        pressure_scheme=t.string(
+            "pressure_scheme", SolverSettings.pressure_scheme, choices=list(PRESSURE_SCHEMES)
+        ),
         preconditioner=t.string(
             "preconditioner", SolverSettings.preconditioner, choices=list(PRECONDITIONERS)
         ),

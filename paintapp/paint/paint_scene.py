@@ -31,6 +31,8 @@ A scene file::
     pressure_tolerance = 1e-5
     viscosity_tolerance = 1e-6
     max_iterations = 400
+    boundary_method = "cutcell"     # cutcell | staircase; also pressure_scheme, preconditioner,
+                                    # viscosity_preconditioner as in a solver scene
 
     [choose]                        # optional: what the app may leave out (paintapp.paint.choice)
     thin_below_m = 2e-4             # auto: depth-averaged while the paint layer is thinner...
@@ -49,7 +51,7 @@ from pathlib import Path
 from common.errors import InputError
 from common.tables import Table
 from paintapp.resources import asset_path
-from solver.scene import preconditioner_keys
+from solver.scene import method_keys
 from solver.solver_settings import SolverSettings
 
 #: The paint models.
@@ -212,7 +214,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
             viscosity_tolerance=solver.number("viscosity_tolerance", 1e-6, minimum=1e-12),
             max_iterations=solver.integer("max_iterations", 400, minimum=1),
-            **preconditioner_keys(solver),
+            **method_keys(solver),
         ),
         description=description,
         choose=parse_choice(choose),
