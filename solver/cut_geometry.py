@@ -1,7 +1,9 @@
 """Cut-cell geometry of the moving probes: open face fractions and fluid volume fractions.
 
-Every step the probes' signed distances are sampled at the grid nodes (cell corners) and at the
-velocity sample points (face centres), only in a window around each probe. From the node values:
+Every step the probes' signed distances are sampled at the grid nodes (cell corners), at the
+velocity sample points (face centres) and at the cell centres (which give the voxelized label),
+only in a window around each probe, in one call of the probe's SDF (3D: at the nodes only, the
+face and cell centres taking the mean of their corners). From the node values:
 
 * the **open fraction** ``w`` of every face (the part of its length, 2D, or area, 3D, outside all
   probes): exact for a linear SDF along a 2D face, and Batty's square rule (the corners' marching
