@@ -18,6 +18,7 @@ import numpy as np
 from solver.boundary import SIDE_NAMES
 from solver.probes import Probe
 from solver.simulation import Simulation
+from solver.solver_settings import JACOBI_LIMIT
 
 MIB = 1024.0 * 1024.0
 
@@ -44,6 +45,7 @@ def explain(sim: Simulation, dt_s: float) -> list[Decision]:
         _viscosity(sim, dt_s),
         _pressure(sim),
         _boundaries(sim),
+        _probe_boundary(sim),
         _forces(sim),
         _torque(sim),
     ]
@@ -129,17 +131,25 @@ def _viscosity(sim: Simulation, dt_s: float) -> Decision:
     if number > limit:
         reason += f" (an explicit step would need < {limit:.3g}; the implicit one is stable)"
     cfg = sim.settings
+    coupling = 2 * d * number
+    kind = cfg.viscosity_solver(coupling)
+    names = {"jacobi": "diagonally preconditioned CG", "multigrid": "MGPCG", "mic0": "MIC(0)-PCG"}
     chosen = (
-        f"implicit, {d} PCG solves per step (tolerance {cfg.viscosity_tolerance:g}, "
+        f"implicit, {d} {names[kind]} solves per step (tolerance {cfg.viscosity_tolerance:g}, "
         f"at most {cfg.max_iterations} iterations)"
     )
+    if cfg.viscosity_preconditioner == "auto":
+        side = "<=" if kind == "jacobi" else ">"
+        reason += f"; 2 dim nu dt / h^2 = {coupling:.3g} {side} {JACOBI_LIMIT:g} picks {kind}"
     return Decision("viscosity", chosen, reason)
 
 
 def _pressure(sim: Simulation) -> Decision:
     cfg = sim.settings
+    solver = "MGPCG (multigrid V-cycle)" if cfg.preconditioner == "multigrid" else "MIC(0)-PCG"
+    scheme = "incremental pressure correction" if cfg.incremental_pressure else "Chorin projection"
     chosen = (
-        f"MIC(0)-PCG to relative residual {cfg.pressure_tolerance:g}, at most "
+        f"{scheme}, {solver} to relative residual {cfg.pressure_tolerance:g}, at most "
         f"{cfg.max_iterations} iterations, warm-started"
     )
     if sim.boundary.has_outflow():
@@ -160,6 +170,23 @@ def _boundaries(sim: Simulation) -> Decision:
     return Decision("boundaries", ", ".join(parts), "from the scene's [boundary] (default: wall)")
 
 
+def _probe_boundary(sim: Simulation) -> Decision:
+    if not sim.probes:
+        return Decision("probe surfaces", "none", "no probes")
+    if sim.settings.boundary_method == "cutcell":
+        return Decision(
+            "probe surfaces",
+            "cut cells: face fractions from each probe's signed distance, every step",
+            "a moving surface changes the pressure matrix continuously (no cells switching "
+            "between solid and fluid, so no force spikes as it crosses them)",
+        )
+    return Decision(
+        "probe surfaces",
+        "staircase: the cells whose centres lie inside a probe are solid",
+        "solver.boundary_method = staircase (the paper's; its force jumps as cells switch)",
+    )
+
+
 def _forces(sim: Simulation) -> Decision:
     n = len(sim.probes)
     if n == 0:
@@ -172,7 +199,11 @@ def _forces(sim: Simulation) -> Decision:
         )
     model = sim.settings.force_model
     reasons = {
-        "stress": "the paper's stress integral over each probe's staircase surface (eqs. 9-18)",
+        "stress": (
+            "the stress integral over each probe's cut surface"
+            if sim.settings.boundary_method == "cutcell"
+            else "the paper's stress integral over each probe's staircase surface (eqs. 9-18)"
+        ),
         "control_volume": (
             f"momentum balance over a box {sim.settings.control_volume_margin} cells around "
             "each probe (less staircase noise and bias; keeps the previous state each step; "

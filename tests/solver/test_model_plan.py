@@ -22,7 +22,19 @@ def test_inviscid_fluid_takes_no_viscosity_solve(build):
     assert "no viscosity solve" in _decisions(sim)["viscosity"].chosen
     viscous = build.sim(16, 2, nu=1e-3, probes=[build.circle(2)])
     assert len(viscous.step(0.01).viscosity) == 2
-    assert "2 PCG solves" in _decisions(viscous)["viscosity"].chosen
+    assert "2 diagonally preconditioned CG solves" in _decisions(viscous)["viscosity"].chosen
+    thick = build.sim(16, 2, nu=10.0, probes=[build.circle(2)])  # 2 dim nu dt / h^2 = 102
+    assert "2 MGPCG solves" in _decisions(thick)["viscosity"].chosen
+
+
+def test_explain_names_the_probe_surfaces_and_the_pressure_solver(build):
+    cut = _decisions(build.sim(16, 2, probes=[build.circle(2)]))
+    assert cut["probe surfaces"].chosen.startswith("cut cells")
+    assert "incremental" in cut["pressure"].chosen and "MGPCG" in cut["pressure"].chosen
+    settings = SolverSettings(boundary_method="staircase", preconditioner="mic0")
+    stair = _decisions(build.sim(16, 2, probes=[build.circle(2)], settings=settings))
+    assert stair["probe surfaces"].chosen.startswith("staircase")
+    assert "Chorin" in stair["pressure"].chosen and "MIC(0)" in stair["pressure"].chosen
 
 
 def test_probe_forces_off_skips_the_force_work_and_leaves_the_flow_unchanged(build):
