@@ -210,3 +210,13 @@ def test_the_solver_table_takes_the_preconditioners_and_names_a_bad_one():
     with pytest.raises(InputError, match=r"solver\.preconditioner") as info:
         parse_paint_scene({"solver": {"preconditioner": "ilu"}}, "x")
     assert "multigrid" in str(info.value) and "mic0" in str(info.value)
+
+
+def test_the_solver_table_takes_the_boundary_method_and_names_a_bad_one():
+    assert parse_paint_scene({}, "x").solver.boundary_method == "cutcell"
+    scene = parse_paint_scene({"solver": {"boundary_method": "staircase"}}, "x")
+    assert scene.solver.boundary_method == "staircase"
+    assert not scene.solver.incremental_pressure  # auto: Chorin on the staircase
+    with pytest.raises(InputError, match=r"solver\.boundary_method") as info:
+        parse_paint_scene({"solver": {"boundary_method": "voxels"}}, "x")
+    assert "cutcell" in str(info.value) and "staircase" in str(info.value)
