@@ -136,44 +136,6 @@ def advance(q, ux, vy, dt, substeps):
         apply_fluxes(q, fx, fy)
 
 
-@njit(cache=True, nogil=True)
-def sweep_residues(dry, q, floor, eligible, changed):
-    """One pass: an ``eligible`` texel (one the flow reached that held no paint before) left
-    with at most ``floor`` of paint in all (dry ``dry`` (ny, nx) plus wet ``q``) gives its wet paint to its 4-neighbour with the most paint, if that
-    holds more (a transported film's thin leading edge runs back into the paint it left, over
-    the passes); conserved exactly, never negative. Marks the receivers in ``changed``;
-    returns how many texels gave."""
-    n_p, ny, nx = q.shape
-    gave = 0
-    for y in range(ny):
-        for x in range(nx):
-            if not eligible[y, x]:
-                continue
-            wet = 0.0
-            for p in range(n_p):
-                wet += q[p, y, x]
-            own = dry[y, x] + wet
-            if wet <= 0.0 or own > floor:
-                continue
-            best, by, bx = own, -1, -1
-            for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
-                yy, xx = y + dy, x + dx
-                if 0 <= yy < ny and 0 <= xx < nx:
-                    held = dry[yy, xx]
-                    for p in range(n_p):
-                        held += q[p, yy, xx]
-                    if held > best:
-                        best, by, bx = held, yy, xx
-            if by < 0:
-                continue
-            for p in range(n_p):
-                q[p, by, bx] += q[p, y, x]
-                q[p, y, x] = 0.0
-            changed[by, bx] = True
-            gave += 1
-    return gave
-
-
 def substeps_needed(ux: np.ndarray, vy: np.ndarray, dt_s: float) -> int:
     """Sub-steps that keep every texel's outgoing Courant numbers summing to at most 1."""
     worst = outflow_courant(ux, vy) * dt_s

@@ -5,15 +5,16 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy.ndimage import binary_fill_holes
 
 from paintapp.canvas.lattice import lattice_ratio
-from paintapp.canvas.model import Canvas
+from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.texel_flow import advance, substeps_needed
 from paintapp.paint.texel_velocity import column_face_velocity, texel_face_velocity
-from paintapp.paint.wet_flow import columns_box, flow_wet_paint
+from paintapp.paint.wet_flow import clear_thin_edges, columns_box, flow_wet_paint
 from paintapp.session.painting import PaintingSession, paint_inventory
-from tests.paintapp.paint.test_paint_transfer import paint, small_scene
+from tests.paintapp.paint.test_paint_transfer import BLUE, paint, small_scene
 from tests.support.demo_strokes import StrokeSpec
 
 RED, WHITE = "cadmium_red", "titanium_white"
@@ -150,3 +151,40 @@ def test_a_straight_stroke_carries_no_cell_lattice():
     # (1.5 against 1.8 here; one stroke's own edges keep the figure above 1 at every period).
     old, _ = diagonal_stroke(dataclasses.replace(scene, texel_flow=False))
     assert lattice_ratio(coverage(canvas), k) < 0.9 * lattice_ratio(coverage(old), k)
+
+
+def test_the_thin_edge_runs_back_whole_and_leaves_no_hole():
+    # A film's thin edge hands its paint to the richest texel beside it; a patch with no empty
+    # texel beside it shares its paint instead; an island gathers into its richest texel.
+    wet = np.zeros((2, 9, 9))
+    wet[:, 2:7, 2:4] = 1e-5  # paint
+    wet[0, 3, 4], wet[1, 3, 4], wet[0, 3, 5] = 3e-9, 1e-20, 2e-30  # its thin edge
+    wet[0, 5:8, 5:8] = 1e-5  # paint around an emptied texel...
+    wet[0, 6, 6] = 1e-25  # ...that the flow left nearly empty
+    wet[0, 8, 0], wet[0, 8, 1] = 4e-12, 1e-12  # an island
+    eligible = np.zeros((9, 9), bool)
+    eligible[3, 4] = eligible[3, 5] = eligible[6, 6] = eligible[8, 0] = eligible[8, 1] = True
+    changed = eligible.copy()
+    before = wet.copy()
+    clear_thin_edges(np.zeros((9, 9)), wet, eligible, changed, FILM_FLOOR_M)
+    np.testing.assert_allclose(wet.sum(axis=(1, 2)), before.sum(axis=(1, 2)), rtol=1e-15)
+    assert wet.min() >= 0.0
+    assert not wet[:, 3, 4:6].any() and wet[0, 3, 3] == 1e-5 + 3e-9 + 2e-30
+    assert wet[1, 3, 3] == 1e-5 + 1e-20
+    assert wet[0, 6, 6] > 1e-6  # filled from its neighbours, not emptied
+    assert wet[0, 8, 0] == 5e-12 and wet[0, 8, 1] == 0.0
+    height = wet.sum(axis=0)
+    assert not (binary_fill_holes(height > 0.0) & (height <= 0.0)).any()
+
+
+def test_a_flowed_stroke_has_no_holes_and_no_vanishing_films():
+    canvas = Canvas((128, 128), (0.032, 0.032), (BLUE,))
+    session = PaintingSession(
+        canvas, "round_small", dataclasses.replace(small_scene(), texel_flow=True)
+    )
+    session.load_pigment(BLUE, 2e-8)
+    paint(session, StrokeSpec((0.006, 0.009), (0.026, 0.015), 0.3, 0.8), 0.0)
+    height = canvas.height_m.astype(np.float64)
+    painted = height > 0.0
+    assert painted.any() and not (binary_fill_holes(painted) & ~painted).any()
+    assert height[painted].min() > 1e-15  # no sub-femtometre films left by the flow's edge
