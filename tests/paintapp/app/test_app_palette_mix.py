@@ -4,6 +4,7 @@ which paints green on the canvas; the pick-up is journalled as a clean and load_
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -94,8 +95,10 @@ def test_mix_blue_and_yellow_on_the_slab_paints_green(window, pump, stroke, tmp_
         _mouse(slab_widget, T.MouseMove, bx + f * (yx - bx), by + f * (yy - by), True)
     _mouse(slab_widget, T.MouseButtonRelease, bx, by, False)
     win.actions_by_name["slab_mix"].trigger()  # X: knife it together, load the brush
-    pump(5.0, lambda: win.worker.idle.is_set() and win.worker.session.reservoir.total_m3 > 0)
-    assert pump(2.0, lambda: win.worker.status.get().message.startswith("brush:"))
+    done = threading.Event()  # commands run in order: once this one has, the mix has too
+    win.worker.submit(lambda _worker: done.set())
+    assert pump(20.0, done.is_set), "the worker never ran the queued slab commands"
+    assert win.worker.status.get().message.startswith("brush:")
     load = win.worker.session.reservoir.fractions()
     load_m3 = win.worker.session.reservoir.total_m3
     assert 0.25 < load.get(BLUE, 0) < 0.75 and 0.25 < load.get(YELLOW, 0) < 0.75, load
