@@ -111,11 +111,17 @@ def substeps_needed(
     """Sub-steps that keep every cell's outgoing flux fraction <= 1 over a step of ``dt`` s."""
     w, tw = _third(comps, face_types, dim)
     worst = outflow_fraction(comps[0], comps[1], w, face_types[0], face_types[1], tw, dim, dt / h)
+    return substeps_for(worst, "scalar transport")
+
+
+def substeps_for(worst: float, what: str) -> int:
+    """Sub-steps that bring the largest outgoing flux fraction ``worst`` of one step to <= 1,
+    at most ``MAX_SUBSTEPS``; ``what`` names the transport in the error otherwise."""
     if not math.isfinite(worst):
-        raise FloatingPointError("non-finite velocity in scalar transport")
+        raise FloatingPointError(f"non-finite velocity in {what}")
     n = max(1, math.ceil(worst - 1e-12))
     if n > MAX_SUBSTEPS:
-        raise FloatingPointError(f"transport would need {n} sub-steps (velocity too large)")
+        raise FloatingPointError(f"{what} would need {n} sub-steps (velocity too large)")
     return n
 
 

@@ -23,13 +23,12 @@ and no texel goes negative.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
+from solver.scalar_transport import substeps_for
+
 #: Hard cap on sub-steps per call (faster paint means something upstream is wrong).
-MAX_SUBSTEPS = 1000
 
 
 @njit(cache=True, nogil=True)
@@ -138,10 +137,4 @@ def advance(q, ux, vy, dt, substeps):
 
 def substeps_needed(ux: np.ndarray, vy: np.ndarray, dt_s: float) -> int:
     """Sub-steps that keep every texel's outgoing Courant numbers summing to at most 1."""
-    worst = outflow_courant(ux, vy) * dt_s
-    if not math.isfinite(worst):
-        raise FloatingPointError("non-finite velocity in the texel transport")
-    n = max(1, math.ceil(worst - 1e-12))
-    if n > MAX_SUBSTEPS:
-        raise FloatingPointError(f"texel transport would need {n} sub-steps (paint too fast)")
-    return n
+    return substeps_for(outflow_courant(ux, vy) * dt_s, "the texel transport")
