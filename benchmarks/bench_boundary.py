@@ -31,7 +31,8 @@ cost      Per-step cost on the same grid: the towed disk at --cost-cells (96^2),
           steps interleaved, median step time of 200 warm steps (the first 20, which include numba
           compilation, are dropped); ratio cut/staircase.
 sweep     The paper's square-probe sweep (paintapp/bench/sweep_force.py) at 64^2: force and
-          torque noise (no reference run).
+          torque noise (no reference run); cut cells also with sharp corners
+          (corner_radius_cells = 0; the default rounds the square's corners by 0.75 cell).
 
 Prints markdown tables.
 """
@@ -185,11 +186,12 @@ def step_cost(methods: list[str], cells: int = 96, steps: int = 200) -> dict[str
     return {m: float(np.median(t[WARM_STEPS:])) for m, t in times.items()}
 
 
-def sweep(method: str) -> dict[str, float]:
+def sweep(method: str, corner_radius_cells: float) -> dict[str, float]:
     """Force and torque noise of the paper's square-probe sweep at 64^2."""
     from paintapp.bench.sweep_force import sweep_force
 
-    m = sweep_force(cells=64, reference_cells=None, boundary_method=method)
+    m = sweep_force(cells=64, reference_cells=None, boundary_method=method,
+                    corner_radius_cells=corner_radius_cells)  # fmt: skip
     return {"force_noise": float(m.errors["force_noise"] or 0.0),
             "torque_noise": float(m.errors["torque_noise"] or 0.0)}  # fmt: skip
 
@@ -257,9 +259,12 @@ def main() -> None:
         print(f"step cost, towed disk {args.cost_cells}^2, median of warm steps: {line}; cut/staircase "
               f"{ratio:.2f}", flush=True)  # fmt: skip
     if "sweep" in only:
-        for m in methods:
-            r = _timed("sweep", sweep, m)
-            print(f"sweep 64^2 {m}: force noise {r['force_noise']:.4f}, torque noise "
+        runs = [(m, SolverSettings.corner_radius_cells) for m in methods] + [("cutcell", 0.0)] * ("cutcell" in methods)
+        for m, radius in runs:
+            r = _timed("sweep", sweep, m, radius)
+            corners = ("" if m != "cutcell" else
+                       f", corners rounded by {radius:g} cell" if radius else ", sharp corners")  # fmt: skip
+            print(f"sweep 64^2 {m}{corners}: force noise {r['force_noise']:.4f}, torque noise "
                   f"{r['torque_noise']:.4f}", flush=True)  # fmt: skip
 
 

@@ -16,6 +16,10 @@ face and cell centres taking the mean of their corners). From the node values:
 * the probe that owns each face's solid part (the nearest surface), whose rigid velocity enters
   there.
 
+A box probe's corners can be rounded at the grid's scale (``SolverSettings.corner_radius_cells``,
+passed to :meth:`CutGeometry.update` in metres): a corner sharper than a cell cannot be resolved,
+and its pressure singularity makes the force jump at each cell the corner crosses.
+
 Arrays are stored like the MAC samples (``[i, j, k]``, x first); outside the probes' windows
 ``w = 1``, fluid fraction 1, signed distance ``FAR``, owner -1.
 """
@@ -29,6 +33,7 @@ from numba import njit
 
 from solver.grid import Grid
 from solver.probes import Probe
+from solver.shapes import Shape, with_rounded_corners
 
 FAR = 1e30
 MIN_FRACTION = 0.1
@@ -223,8 +228,9 @@ class CutGeometry:
                 self.owner_sample[a][face] = -1
         self.windows = []
 
-    def update(self, grid: Grid, probes: list[Probe]) -> None:
-        """Recompute the geometry around every probe (and clear it where probes have left)."""
+    def update(self, grid: Grid, probes: list[Probe], corner_radius_m: float = 0.0) -> None:
+        """Recompute the geometry around every probe (and clear it where probes have left), box
+        probes with their corners rounded by ``corner_radius_m``."""
         self._reset(grid.dim)
         d = grid.dim
         for n, probe in enumerate(probes):
@@ -232,7 +238,8 @@ class CutGeometry:
             if np.any(hi <= lo):
                 continue
             self.windows.append((lo, hi))
-            _sample_sdf(grid, probe, n, lo, hi, self)
+            shape = with_rounded_corners(probe.shape, corner_radius_m)
+            _sample_sdf(grid, probe, shape, n, lo, hi, self)
         for lo, hi in self.windows:
             for a in range(d):
                 face_hi = hi + np.eye(3, dtype=np.int64)[a]
@@ -255,7 +262,9 @@ def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray,
     return lo, hi
 
 
-def _lattice_sdf(probe: Probe, axes: list[np.ndarray], targets: list) -> list[np.ndarray]:
+def _lattice_sdf(
+    probe: Probe, shape: Shape, axes: list[np.ndarray], targets: list
+) -> list[np.ndarray]:
     """The probe's SDF on each target sub-lattice of the half-cell lattice ``axes``, shaped like
     the window of its array. 2D: every sub-lattice exactly, in one call of the SDF. 3D: at the
     nodes only (a brush tip's SDF is by far the most expensive part of the cut geometry); a face
@@ -267,11 +276,11 @@ def _lattice_sdf(probe: Probe, axes: list[np.ndarray], targets: list) -> list[np
         grids = [np.stack(np.meshgrid(*(axes[b][sel[b]] for b in range(d)), indexing="ij"), -1)
                  for sel, _, _ in targets]  # fmt: skip
         pts = np.concatenate([g.reshape(-1, d) for g in grids])
-        sdf = np.asarray(probe.shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+        sdf = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
         parts = np.split(sdf, np.cumsum([g[..., 0].size for g in grids])[:-1])
         return [f.reshape((*g.shape[:-1], 1)) for f, g in zip(parts, grids, strict=True)]
     pts = np.stack(np.meshgrid(*(ax[0::2] for ax in axes), indexing="ij"), axis=-1)
-    node = np.asarray(probe.shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+    node = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
     out = [node]
     for a in range(3):
         b, c = (n for n in range(3) if n != a)
@@ -294,10 +303,17 @@ def _halves(q: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _sample_sdf(
-    grid: Grid, probe: Probe, index: int, lo: np.ndarray, hi: np.ndarray, geo: CutGeometry
+    grid: Grid,
+    probe: Probe,
+    shape: Shape,
+    index: int,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    geo: CutGeometry,
 ) -> None:
-    """Take the min of the stored SDFs and probe ``index``'s over the window ``lo..hi`` (cells)
-    at the nodes, the face centres and the cell centres (see :func:`_lattice_sdf`)."""
+    """Take the min of the stored SDFs and probe ``index``'s (its ``shape``, in its pose) over
+    the window ``lo..hi`` (cells) at the nodes, the face centres and the cell centres (see
+    :func:`_lattice_sdf`)."""
     h = grid.cell_size_m
     d = grid.dim
     axes = [grid.origin_m[a] + (lo[a] + 0.5 * np.arange(2 * (hi[a] - lo[a]) + 1)) * h
@@ -307,7 +323,7 @@ def _sample_sdf(
     targets += [(tuple((even if b == a else odd) if b < d else layer for b in range(3)),
                  geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]  # fmt: skip
     targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, geo.owner_cell)]
-    values_of = _lattice_sdf(probe, axes, targets)
+    values_of = _lattice_sdf(probe, shape, axes, targets)
     for (_, phi, owner), values in zip(targets, values_of, strict=True):
         window = tuple(slice(lo[b], lo[b] + values.shape[b]) for b in range(3))
         sub = phi[window]

@@ -17,6 +17,7 @@ import numpy as np
 
 from solver.boundary import SIDE_NAMES
 from solver.probes import Probe
+from solver.shapes import Box
 from solver.simulation import Simulation
 from solver.solver_settings import JACOBI_LIMIT
 
@@ -174,11 +175,22 @@ def _probe_boundary(sim: Simulation) -> Decision:
     if not sim.probes:
         return Decision("probe surfaces", "none", "no probes")
     if sim.settings.boundary_method == "cutcell":
+        why = (
+            "a moving surface changes the pressure matrix continuously (no cells switching "
+            "between solid and fluid, so no force spikes as it crosses them)"
+        )
+        boxes = sum(isinstance(p.shape, Box) for p in sim.probes)
+        radius = sim.settings.corner_radius_cells
+        if boxes and radius > 0:
+            why += (
+                f"; {boxes} box probe(s) with corners rounded by {radius:g} cell(s) "
+                f"({radius * sim.grid.cell_size_m:.3g} m, solver.corner_radius_cells): a corner "
+                "sharper than the grid makes the force jump at every cell it crosses"
+            )
         return Decision(
             "probe surfaces",
             "cut cells: face fractions from each probe's signed distance, every step",
-            "a moving surface changes the pressure matrix continuously (no cells switching "
-            "between solid and fluid, so no force spikes as it crosses them)",
+            why,
         )
     return Decision(
         "probe surfaces",

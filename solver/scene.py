@@ -26,6 +26,7 @@ from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
 from solver.solver_settings import (
     BOUNDARY_METHODS,
+    MAX_CORNER_RADIUS_CELLS,
     PRECONDITIONERS,
     PRESSURE_SCHEMES,
     VISCOSITY_PRECONDITIONERS,
@@ -326,18 +327,26 @@ class MethodKeys(TypedDict):
     preconditioners."""
 
     boundary_method: str
+    corner_radius_cells: float
     pressure_scheme: str
     preconditioner: str
     viscosity_preconditioner: str
 
 
 def method_keys(t: Table) -> MethodKeys:
-    """The ``boundary_method``, ``pressure_scheme``, ``preconditioner`` and
-    ``viscosity_preconditioner`` keys of a ``[solver]`` table (a scene's or a paint scene's),
-    defaults filled in, choices checked."""
+    """The ``boundary_method``, ``corner_radius_cells``, ``pressure_scheme``, ``preconditioner``
+    and ``viscosity_preconditioner`` keys of a ``[solver]`` table (a scene's or a paint
+    scene's), defaults filled in, choices and ranges checked."""
     return MethodKeys(
         boundary_method=t.string(
             "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
+        ),
+        corner_radius_cells=t.number(
+            "corner_radius_cells",
+            SolverSettings.corner_radius_cells,
+            minimum=0.0,
+            maximum=MAX_CORNER_RADIUS_CELLS,
+            hint=" (cells)",
         ),
         pressure_scheme=t.string(
             "pressure_scheme", SolverSettings.pressure_scheme, choices=list(PRESSURE_SCHEMES)

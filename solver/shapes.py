@@ -72,3 +72,33 @@ class Box:
     def cross_section_m(self, dim: int) -> float:
         """Frontal extent across x (2D: height) or frontal area across x (3D)."""
         return float(self.size_m[1]) if dim == 2 else float(self.size_m[1] * self.size_m[2])
+
+
+@dataclass(frozen=True)
+class FilletedBox:
+    """A :class:`Box` of full extents ``size_m`` whose edges and corners are rounded with
+    ``radius_m`` (the rounding stays inside the box's extents; ``radius_m`` at most half the
+    smallest extent)."""
+
+    size_m: tuple[float, ...]
+    radius_m: float
+
+    @property
+    def bounding_radius_m(self) -> float:
+        return 0.5 * float(np.linalg.norm(self.size_m))
+
+    def sdf(self, points: np.ndarray) -> np.ndarray:
+        core = Box(tuple(float(s) - 2.0 * self.radius_m for s in self.size_m))
+        return core.sdf(points) - self.radius_m
+
+    def cross_section_m(self, dim: int) -> float:
+        return Box(self.size_m).cross_section_m(dim)
+
+
+def with_rounded_corners(shape: Shape, radius_m: float) -> Shape:
+    """``shape`` with its sharp corners rounded by ``radius_m`` (clamped to half a box's smallest
+    extent): a :class:`Box` becomes a :class:`FilletedBox`; smooth shapes come back unchanged."""
+    if radius_m <= 0.0 or not isinstance(shape, Box):
+        return shape
+    radius = min(radius_m, 0.5 * min(float(s) for s in shape.size_m))
+    return FilletedBox(tuple(float(s) for s in shape.size_m), radius)

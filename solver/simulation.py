@@ -36,6 +36,7 @@ from solver.probes import Probe
 from solver.projection import divergence_sum, project, subtract_gradient
 from solver.solver_settings import (
     BOUNDARY_METHODS,
+    MAX_CORNER_RADIUS_CELLS,
     PRECONDITIONERS,
     PRESSURE_SCHEMES,
     VISCOSITY_PRECONDITIONERS,
@@ -134,6 +135,11 @@ class Simulation:
             raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
         if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
             raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
+        if not 0.0 <= self.settings.corner_radius_cells <= MAX_CORNER_RADIUS_CELLS:  # NaN too
+            raise ValueError(
+                f"corner_radius_cells must be in [0, {MAX_CORNER_RADIUS_CELLS:g}], "
+                f"got {self.settings.corner_radius_cells}"
+            )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
         self._pressure_solve = _linear_solver(self.settings.preconditioner, grid.cells, grid.dim)
         self._viscosity_solves: dict[str, list[LinearSolve]] = {}
@@ -357,7 +363,8 @@ class Simulation:
         label[self.static_solid] = STATIC_SOLID
         self._static_label[:] = label
         if self.cut is not None:  # the cut geometry samples the cell centres too
-            self.cut.update(self.grid, self.probes)
+            radius = self.settings.corner_radius_cells * self.grid.cell_size_m
+            self.cut.update(self.grid, self.probes, radius)
             inside = (self.cut.owner_cell >= 0) & (label == FLUID)
             label[inside] = self.cut.owner_cell[inside]
             return

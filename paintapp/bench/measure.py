@@ -27,6 +27,7 @@ SOLVER_KEYS = (
     "max_iterations",
     "force_model",
     "boundary_method",
+    "corner_radius_cells",
     "preconditioner",
     "viscosity_preconditioner",
 )

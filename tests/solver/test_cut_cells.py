@@ -10,16 +10,16 @@ from solver.boundary import DomainBoundary, Side
 from solver.cut_geometry import CutGeometry, fraction_inside_square
 from solver.grid import Grid
 from solver.probes import Probe
-from solver.shapes import Ball, Box
+from solver.shapes import Ball, Box, FilletedBox, with_rounded_corners
 from solver.simulation import Fluid, Simulation, SolverSettings
 
 CUT = SolverSettings(boundary_method="cutcell")
 
 
-def _geometry(probe: Probe, cells: int, dim: int = 2) -> CutGeometry:
+def _geometry(probe: Probe, cells: int, dim: int = 2, corner_radius_m: float = 0.0) -> CutGeometry:
     grid = Grid.from_size((1.0,) * dim, (cells,) * dim)
     geo = CutGeometry.empty(grid)
-    geo.update(grid, [probe])
+    geo.update(grid, [probe], corner_radius_m)
     return geo
 
 
@@ -54,6 +54,31 @@ def test_rotated_box_fractions_follow_the_shape():
     geo = _geometry(probe, 50)
     solid = float(np.sum(1.0 - geo.fluid_frac)) / 50**2
     assert solid == pytest.approx(0.03, rel=0.02)
+
+
+def test_filleted_box_is_the_box_with_rounded_corners():
+    box = with_rounded_corners(Box((0.3, 0.1)), 0.02)
+    assert box == FilletedBox((0.3, 0.1), 0.02)
+    on_side = np.array([[0.0, 0.05], [0.15, 0.0], [0.1, -0.05]])
+    assert np.allclose(box.sdf(on_side), 0.0, atol=1e-15)  # the flat sides stay where they were
+    diagonal = np.array([0.15, 0.05]) - 0.02 * (1.0 - np.sqrt(0.5))  # the fillet's surface
+    assert box.sdf(diagonal[None])[0] == pytest.approx(0.0, abs=1e-15)
+    assert box.sdf(np.array([[0.15, 0.05]]))[0] == pytest.approx(0.02 * (np.sqrt(2.0) - 1.0))
+    assert with_rounded_corners(Box((0.3, 0.1)), 0.2) == FilletedBox((0.3, 0.1), 0.05)  # clamped
+    assert with_rounded_corners(Ball(0.1), 0.02) == Ball(0.1)  # already smooth
+    assert with_rounded_corners(Box((0.3, 0.1)), 0.0) == Box((0.3, 0.1))
+
+
+def test_rounded_corner_fractions_give_the_filleted_area():
+    """The cut geometry with a corner radius sees the rounded box: the solid area loses (4 - pi)
+    r^2 against the sharp one, and the surface stays closed."""
+    probe = Probe("b", Box((0.3, 0.1)), 2, np.array([0.5, 0.5]), orientation=0.4)
+    r = 0.03
+    geo = _geometry(probe, 100, corner_radius_m=r)
+    solid = float(np.sum(1.0 - geo.fluid_frac)) / 100**2
+    assert solid == pytest.approx(0.03 - (4.0 - np.pi) * r**2, rel=0.01)
+    wx, wy, _ = geo.open_frac
+    assert abs((wx[1:] - wx[:-1]).sum()) < 1e-9 and abs((wy[:, 1:] - wy[:, :-1]).sum()) < 1e-9
 
 
 def _towed(method: str, cells: int, steps: int = 400) -> np.ndarray:

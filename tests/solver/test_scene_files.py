@@ -106,6 +106,13 @@ def test_bundled_scenes_load():
             "solver.viscosity_preconditioner",
             "jacobi",
         ),
+        ("[run]", "[solver]\ncorner_radius_cells = -1\n\n[run]", "solver.corner_radius_cells", "0"),
+        (
+            "[run]",
+            "[solver]\ncorner_radius_cells = nan\n\n[run]",
+            "solver.corner_radius_cells",
+            "number",
+        ),
     ],
 )
 def test_malformed_scene_names_key_and_expectation(tmp_path, old, new, key, expected):
