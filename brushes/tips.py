@@ -20,7 +20,7 @@ Deformation: :class:`Splayed` widens a tip laterally (bristles splaying under pr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -151,6 +151,13 @@ class RoundedBox:
         centre, half = self._core
         core = float(d @ centre + np.abs(d) @ half)
         return core + self.corner_radius_m * float(np.linalg.norm(d))
+
+    def with_min_corner_radius(self, radius_m: float) -> RoundedBox:
+        """This box with its edges rounded by at least ``radius_m`` (at most half its smallest
+        size): the solver rounds sharp corners at its grid's scale."""
+        radius = min(max(radius_m, self.corner_radius_m),
+                     0.5 * min(self.width_m, self.thickness_m, self.length_m))  # fmt: skip
+        return self if radius == self.corner_radius_m else replace(self, corner_radius_m=radius)
 
 
 @dataclass(frozen=True)

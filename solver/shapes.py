@@ -96,9 +96,14 @@ class FilletedBox:
 
 
 def with_rounded_corners(shape: Shape, radius_m: float) -> Shape:
-    """``shape`` with its sharp corners rounded by ``radius_m`` (clamped to half a box's smallest
-    extent): a :class:`Box` becomes a :class:`FilletedBox`; smooth shapes come back unchanged."""
-    if radius_m <= 0.0 or not isinstance(shape, Box):
+    """``shape`` with its sharp corners rounded by at least ``radius_m``: a :class:`Box` becomes a
+    :class:`FilletedBox` (the radius clamped to half its smallest extent); a shape with a
+    ``with_min_corner_radius(radius_m)`` method (a brush's box tip) answers for itself; smooth
+    shapes come back unchanged."""
+    if radius_m <= 0.0:
         return shape
-    radius = min(radius_m, 0.5 * min(float(s) for s in shape.size_m))
-    return FilletedBox(tuple(float(s) for s in shape.size_m), radius)
+    if isinstance(shape, Box):
+        radius = min(radius_m, 0.5 * min(float(s) for s in shape.size_m))
+        return FilletedBox(tuple(float(s) for s in shape.size_m), radius)
+    rounded = getattr(shape, "with_min_corner_radius", None)
+    return rounded(radius_m) if callable(rounded) else shape

@@ -168,3 +168,21 @@ def test_bad_geometry_rejected():
         RoundedBox(4 * MM, 2 * MM, 10 * MM, corner_radius_m=1.5 * MM)
     with pytest.raises(ValueError):
         Disc(1 * MM).sdf(np.zeros(3))  # wrong dimension
+
+
+def test_box_tip_takes_the_solver_grid_scale_corner_radius():
+    """A sharp box tip (the paper's square probe) is rounded by the solver's corner radius; a tip
+    already rounder keeps its own; the radius never exceeds half the smallest size."""
+    from solver.shapes import with_rounded_corners
+
+    sharp = RoundedBox(4 * MM, 4 * MM, 10 * MM)
+    rounded = with_rounded_corners(sharp, 0.3 * MM)
+    assert rounded == RoundedBox(4 * MM, 4 * MM, 10 * MM, corner_radius_m=0.3 * MM)
+    corner = np.array([[2 * MM, 2 * MM, 5 * MM]])  # on a vertical edge of the sharp box
+    assert sharp.sdf(corner)[0] == pytest.approx(0.0, abs=1e-15)
+    assert rounded.sdf(corner)[0] == pytest.approx(0.3 * MM * (math.sqrt(2.0) - 1.0))
+    flat = RoundedBox(8 * MM, 2 * MM, 9 * MM, 0.6 * MM)
+    assert with_rounded_corners(flat, 0.3 * MM) is flat
+    assert with_rounded_corners(flat, 5 * MM).corner_radius_m == pytest.approx(1 * MM)
+    cone = RoundCone(0.4 * MM, 2 * MM, 10 * MM)
+    assert with_rounded_corners(cone, 0.3 * MM) is cone  # smooth already
