@@ -73,31 +73,38 @@ def test_schaefer_turek_2d1_drag_and_pressure_difference():
 
 
 @pytest.mark.slow
-def test_schaefer_turek_2d2_sheds_vortices_near_the_published_figures():
-    """Benchmark 2D-2 (Re 100: parabolic inflow peaking at 1.5 m/s, U_mean 1 m/s), D/h 20 (440 x
-    82), cut cells, MacCormack, dt = h / (3 m/s), t = 8 s; over the last 3 s. Published: St
-    0.295-0.305, c_D max 3.22-3.24, c_L max 0.99-1.01. Measured: St 0.2861 (3 % below the range),
-    c_D max 3.287 (1.5 % above), c_L max 0.921 (7 % below); at D/h 10: 0.276 / 3.313 / 0.572."""
-    grid = Grid.from_size((2.2, 0.41), (440, 82))
+def test_schaefer_turek_2d2_sheds_vortices_within_2_percent_of_the_published_figures():
+    """Benchmark 2D-2 (Re 100: parabolic inflow peaking at 1.5 m/s, U_mean 1 m/s), D/h 30 (660 x
+    123), cut cells, MacCormack, dt = h / (6 m/s) (CFL 0.25 on the peak), t = 8 s; over the last
+    3 s. Published: St 0.295-0.305, c_D max 3.22-3.24, c_L max 0.99-1.01; the target is each
+    within 2 % of its range. Measured: St 0.2957, c_D max 3.193 (0.9 % below), c_L max 0.9721
+    (1.8 % below). Coarser runs miss: D/h 20 at CFL 0.5 0.2866 / 3.258 / 0.926, at CFL 0.25
+    0.2913 / 3.232 / 0.941; D/h 30 at CFL 0.5 0.2924 / 3.207 / 0.964 (first-order time
+    splitting: the Strouhal number rises as dt falls)."""
+    grid = Grid.from_size((2.2, 0.41), (660, 123))
     sides = {"x_min": Side("inflow", (1.5, 0.0), "parabolic"), "x_max": Side("outflow")}
     probe = Probe("cylinder", Ball(0.05), 2, np.array([0.2, 0.2]))
     settings = SolverSettings(advection="maccormack")
     sim = Simulation(grid, Fluid(1.0, 1e-3), DomainBoundary(grid, sides), [probe], settings)
-    dt = grid.cell_size_m / 3.0
+    dt = grid.cell_size_m / 6.0
     forces = []
     for _ in range(round(8.0 / dt)):
         sim.step(dt)
         forces.append(sim.forces["cylinder"].force.copy())
     c = 2.0 * np.array(forces)[-round(3.0 / dt) :] / (1.0**2 * 0.1)
     lift = c[:, 1] - c[:, 1].mean()
-    up = np.flatnonzero((lift[:-1] < 0) & (lift[1:] >= 0) & (np.abs(lift[:-1]) < 0.3))
-    up = up[np.diff(up, prepend=-1000) > 20]  # one crossing per period (a period is ~200 steps)
-    t_up = (up + lift[up] / (lift[up] - lift[up + 1])) * dt
+    low, armed, up = -0.3 * float(np.abs(lift).max()), False, []
+    for i in range(len(lift) - 1):  # upward zero crossings, with hysteresis against jitter
+        armed = armed or lift[i] < low
+        if armed and lift[i] < 0 <= lift[i + 1]:
+            up.append(i)
+            armed = False
+    t_up = (np.array(up) + lift[up] / (lift[up] - lift[np.array(up) + 1])) * dt
     strouhal = 0.1 / float(np.diff(t_up).mean())
     print(
-        f"ST 2D-2 D/h 20: St {strouhal:.4f}, c_D max {c[:, 0].max():.4f}, c_L max {c[:, 1].max():.4f}"
+        f"ST 2D-2 D/h 30: St {strouhal:.4f}, c_D max {c[:, 0].max():.4f}, c_L max {c[:, 1].max():.4f}"
     )
     assert len(t_up) >= 6
-    assert strouhal == pytest.approx(0.30, rel=0.06)
-    assert c[:, 0].max() == pytest.approx(3.23, rel=0.03)
-    assert c[:, 1].max() == pytest.approx(1.0, rel=0.12)
+    assert 0.98 * 0.295 <= strouhal <= 1.02 * 0.305
+    assert 0.98 * 3.22 <= c[:, 0].max() <= 1.02 * 3.24
+    assert 0.98 * 0.99 <= c[:, 1].max() <= 1.02 * 1.01
