@@ -10,9 +10,17 @@ the ``p`` phase means (infinite when only some phases change at all, 1 for a fla
 without a lattice at ``p`` gives about 1; the box transfer gave 3.5 (colour) and 2.5 (height) at
 the demo's period of 5 texels.
 
+A painting's ratio is not 1 without a lattice: a few strong edges (a stroke's sides) fall on some
+phases more than on others, and the more phases (the longer the period), the fewer boundaries
+each phase averages and the larger its largest mean. :func:`null_ratio` measures that floor for
+the image at hand: the same boundaries' gradients with their phases dealt out at random (each
+phase as many boundaries as before), so that no lattice can show. The median over the deals is
+what the image gives without a lattice, and the share of deals at least as high as the observed
+ratio says whether a lattice is there (a small share: it is).
+
 ``python -m paintapp.canvas.lattice DIR`` prints the ratios of ``DIR/preview.png`` (colour) and
-``DIR/canvas.exr`` (paint height) for periods 2-12, and the holes of the painting
-(:func:`count_holes`): unpainted texels (paint height at most
+``DIR/canvas.exr`` (paint height) for periods 2-12 with their floors and shares, and the holes of
+the painting (:func:`count_holes`): unpainted texels (paint height at most
 :data:`paintapp.canvas.model.FILM_FLOOR_M`) enclosed by painted ones.
 """
 
@@ -27,31 +35,57 @@ from scipy.ndimage import binary_fill_holes, label
 from paintapp.canvas.model import FILM_FLOOR_M
 
 PERIODS = tuple(range(2, 13))
+NULL_DEALS = 200
 
 
-def _phase_means(diff: np.ndarray, axis: int, period: int) -> np.ndarray:
-    """Mean of ``diff`` (H', W') over each phase of its index along ``axis``, (period,)."""
-    n = diff.shape[axis]
-    phase = (np.arange(n) + 1) % period
-    line = diff.mean(axis=1 - axis)
-    return np.array([line[phase == f].mean() for f in range(period)])
-
-
-def lattice_ratio(image: np.ndarray, period: int) -> float:
-    """Phase ratio (module docstring) of an (H, W) or (H, W, C) image at ``period`` texels."""
+def _boundary_lines(image: np.ndarray, period: int) -> list[np.ndarray]:
+    """Per axis, the mean gradient magnitude across each texel boundary along it (colour: the
+    Euclidean norm over channels), once the period is checked against the image's size."""
     img = np.asarray(image, dtype=np.float64)
     if img.ndim == 2:
         img = img[..., None]
     if period < 2 or min(img.shape[:2]) <= period:
         raise ValueError(f"need 2 <= period < image size, got {period} for {img.shape[:2]}")
-    ratios = []
-    for axis in (0, 1):
-        diff = np.sqrt((np.diff(img, axis=axis) ** 2).sum(axis=2))
-        means = _phase_means(diff, axis, period)
-        median = float(np.median(means))
-        top = float(means.max())
-        ratios.append(top / median if median > 0.0 else (np.inf if top > 0.0 else 1.0))
-    return max(ratios)
+    return [
+        np.sqrt((np.diff(img, axis=axis) ** 2).sum(axis=2)).mean(axis=1 - axis) for axis in (0, 1)
+    ]
+
+
+def _phases(n: int, period: int) -> np.ndarray:
+    """The lattice phase of each of ``n`` texel boundaries."""
+    return (np.arange(n) + 1) % period
+
+
+def _ratio(line: np.ndarray, phase: np.ndarray, period: int) -> float:
+    """Largest phase mean of ``line`` over the median phase mean (module docstring)."""
+    means = np.bincount(phase, line, period) / np.bincount(phase, minlength=period)
+    median = float(np.median(means))
+    top = float(means.max())
+    return top / median if median > 0.0 else (np.inf if top > 0.0 else 1.0)
+
+
+def lattice_ratio(image: np.ndarray, period: int) -> float:
+    """Phase ratio (module docstring) of an (H, W) or (H, W, C) image at ``period`` texels."""
+    lines = _boundary_lines(image, period)
+    return max(_ratio(line, _phases(len(line), period), period) for line in lines)
+
+
+def null_ratio(
+    image: np.ndarray, period: int, deals: int = NULL_DEALS, seed: int = 0
+) -> tuple[float, float]:
+    """What the image's ratio is without a lattice (module docstring): ``(floor, share)``, the
+    median ratio over ``deals`` random deals of the boundaries' phases and the fraction of deals
+    whose ratio is at least :func:`lattice_ratio`'s (reproducible through ``seed``)."""
+    lines = _boundary_lines(image, period)
+    observed = max(_ratio(line, _phases(len(line), period), period) for line in lines)
+    rng = np.random.default_rng(seed)
+    dealt = np.array(
+        [
+            max(_ratio(line, rng.permutation(_phases(len(line), period)), period) for line in lines)
+            for _ in range(deals)
+        ]
+    )
+    return float(np.median(dealt)), float(np.mean(dealt >= observed))
 
 
 def lattice_table(image: np.ndarray, periods: tuple[int, ...] = PERIODS) -> dict[int, float]:
@@ -82,18 +116,30 @@ def _read_png(path: Path) -> np.ndarray:
 
 
 def main(argv: list[str]) -> int:
-    """Print the colour and height ratios of a demo output folder."""
+    """Print the colour and height ratios of a demo output folder, with their floors."""
     from paintapp.canvas.exr import read_canvas_exr
 
     folder = Path(argv[0]) if argv else Path("paintapp-demo")
-    colour = lattice_table(_read_png(folder / "preview.png"))
-    height_m = read_canvas_exr(folder / "canvas.exr").height_m
-    height = lattice_table(height_m)
-    print("period  colour  height")
+    images = {
+        "colour": _read_png(folder / "preview.png"),
+        "height": read_canvas_exr(folder / "canvas.exr").height_m,
+    }
+    print("period  colour (floor, share)   height (floor, share)")
+    worst = dict.fromkeys(images, 0.0)
     for p in PERIODS:
-        print(f"{p:6d}  {colour[p]:6.3f}  {height[p]:6.3f}")
-    print(f"max     {max(colour.values()):6.3f}  {max(height.values()):6.3f}")
-    texels, holes = count_holes(height_m)
+        cells = []
+        for name, img in images.items():
+            ratio = lattice_ratio(img, p)
+            floor, share = null_ratio(img, p)
+            worst[name] = max(worst[name], ratio)
+            cells.append(f"{ratio:6.3f} ({floor:5.3f}, {share:4.2f})")
+        print(f"{p:6d}  " + "   ".join(cells))
+    print(f"max     {worst['colour']:6.3f}{'':17}{worst['height']:6.3f}")
+    print(
+        f"floor: the ratio with the boundaries' phases dealt at random (median of {NULL_DEALS} "
+        "deals, no lattice possible); share: the deals at least as high (near 0: a lattice)"
+    )
+    texels, holes = count_holes(images["height"])
     print(
         f"holes: {texels} unpainted texels (<= {FILM_FLOOR_M:g} m) inside the painting, {holes} holes"
     )

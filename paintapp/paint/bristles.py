@@ -3,7 +3,7 @@
 The paint grid's columns are a cell wide (several texels), far coarser than a brush's bristle
 clumps, so the clumps act where the columns trade paint with the texels
 (:meth:`paintapp.paint.columns.ColumnWindow.write_back`): a column's gain is laid down with its
-tent weights times a *gain weight* per texel, and its loss taken with its tent weights times a
+weights times a *gain weight* per texel, and its loss taken with its weights times a
 *loss weight*, each normalised per column, so the texture only moves paint within a column's reach
 and paint stays conserved to round-off.
 

@@ -7,20 +7,27 @@ of ``k`` texels), so re-centring the grid by whole cells keeps every column on t
 
 Paint in the grid is the *wet* (mobile) part of the canvas paint: a texel with paint ``P_p``
 (metres, per pigment) and wetness ``w`` holds ``w P_p`` of mobile paint; the rest is dry and stays
-put. Columns and texels trade paint through a tent (bilinear hat) kernel, the same both ways: a
-texel at distance ``(dx, dy)`` texels from a column's centre has weight
-``max(0, 1 - |dx| / k) max(0, 1 - |dy| / k)``, so a column reaches one cell beyond its block and
-the weights of the columns at a texel sum to 1 (a partition of unity). :meth:`ColumnWindow.gather`
-gives each column its tent-weighted mobile paint over its area ``k^2``;
-:meth:`ColumnWindow.write_back` lays a column's gain down with its tent weights (as fresh, fully
-wet paint) and takes a loss as the same fraction of the tent-weighted mobile paint of every texel
-in its support. A box spread (each column's change evenly over its own block) printed the ``k``
--texel lattice into the paint; the tent spread interpolates linearly between column centres.
+put. Columns and texels trade paint through a quadratic B-spline kernel, the same both ways: a
+texel at distance ``(dx, dy)`` texels from a column's centre has weight ``B(dx / k) B(dy / k)``
+with ``B(t) = 3/4 - t^2`` for ``|t| <= 1/2``, ``(3/2 - |t|)^2 / 2`` for ``1/2 < |t| < 3/2``, 0
+beyond, so a column reaches a cell and a half beyond its centre and the weights of the columns at
+a texel sum to 1 (a partition of unity; over a column's texels they sum to ``k`` per axis,
+exactly, for any whole ``k``). :meth:`ColumnWindow.gather` gives each column its weighted mobile
+paint over its area ``k^2``; :meth:`ColumnWindow.write_back` lays a column's gain down with its
+weights (as fresh, fully wet paint) and takes a loss as the same fraction of the weighted mobile
+paint of every texel in its support. A box spread (each column's change evenly over its own
+block) printed the ``k``-texel lattice into the paint; a tent (``max(0, 1 - |t|)``, linear
+between column centres) still did, more faintly, because the slope of what it lays down jumps at
+every column centre, and where a thin film's colour turns (a stroke's fringe) that jump falls at
+one phase of the cell: the B-spline's slope is continuous. The tent stays selectable (a scene's
+``[paint] transfer = "tent"``): it reaches half a cell less beyond a stroke. With one texel per
+cell (``k = 1``) the tent is the identity and is used either way (no lattice is possible, and the
+spline would only blur).
 Each texel's new wetness is its mobile share of its paint (a texel has one wetness for all its
 pigments, so its total of dry paint is kept, not each pigment's). Texels whose change is exactly
 zero are not touched (bit-exact), and texel totals change by exactly ``k^2`` times the column
 change (to round-off), so paint is conserved. Columns not wholly on the canvas hold no paint and
-are walls; a column at the canvas edge has its tent clipped there (its gains are normalised over
+are walls; a column at the canvas edge has its weights clipped there (its gains are normalised over
 the texels it reaches).
 """
 
@@ -77,9 +84,19 @@ class ColumnWindow:
         canvas: the canvas (square texels).
         cells_xy: (nx, ny) columns.
         texels_per_cell: ``k``.
+        kernel: ``"bspline"`` or ``"tent"`` (:func:`transfer_weights`).
     """
 
-    def __init__(self, canvas: Canvas, cells_xy: tuple[int, int], texels_per_cell: int) -> None:
+    def __init__(
+        self,
+        canvas: Canvas,
+        cells_xy: tuple[int, int],
+        texels_per_cell: int,
+        kernel: str = "bspline",
+    ) -> None:
+        if kernel not in ("bspline", "tent"):
+            raise ValueError(f"kernel must be bspline or tent, got {kernel!r}")
+        self.kernel = kernel
         self.texel_m = square_texel_m(canvas)
         self.k = int(texels_per_cell)
         self.cells = (int(cells_xy[0]), int(cells_xy[1]))
@@ -138,22 +155,25 @@ class ColumnWindow:
         return mask
 
     def _texel_block(self, r: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
-        """Texels (x0, y0, x1, y1), half-open and clipped to the canvas, that the tents of
-        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and one cell around)."""
+        """Texels (x0, y0, x1, y1), half-open and clipped to the canvas, that the weights of
+        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and :func:`reach_cells` around)."""
         i0, i1, j0, j1 = r
         ox, oy = self.origin_texel
         k, (w, h) = self.k, self.pixels
-        x0, x1 = max(0, ox + (i0 - 1) * k), min(w, ox + (i1 + 1) * k)
-        y0, y1 = max(0, oy + (j0 - 1) * k), min(h, oy + (j1 + 1) * k)
+        m = reach_cells(k, self.kernel)
+        x0, x1 = max(0, ox + (i0 - m) * k), min(w, ox + (i1 + m) * k)
+        y0, y1 = max(0, oy + (j0 - m) * k), min(h, oy + (j1 + m) * k)
         return x0, y0, x1, y1
 
-    def _tents(
+    def _weights(
         self, r: tuple[int, int, int, int], box: tuple[int, int, int, int]
-    ) -> tuple[Tent, Tent]:
-        """Tent weights of columns ``r`` over the texels of ``box``: x (ni, nx_t), y (nj, ny_t)."""
+    ) -> tuple[AxisWeights, AxisWeights]:
+        """Weights of columns ``r`` over the texels of ``box``: x (ni, nx_t), y (nj, ny_t)."""
+        ox, oy = self.origin_texel
+        k, kernel = self.k, self.kernel
         return (
-            Tent(tent_weights(self.origin_texel[0], self.k, r[0], r[1], box[0], box[2])),
-            Tent(tent_weights(self.origin_texel[1], self.k, r[2], r[3], box[1], box[3])),
+            AxisWeights(transfer_weights(ox, k, r[0], r[1], box[0], box[2], kernel)),
+            AxisWeights(transfer_weights(oy, k, r[2], r[3], box[1], box[3], kernel)),
         )
 
     def _mobile(self, canvas: Canvas, box: tuple[int, int, int, int]):
@@ -165,13 +185,13 @@ class ColumnWindow:
 
     def gather(self, canvas: Canvas) -> np.ndarray:
         """Mobile paint per column and pigment, (P, nx, ny) float64, metres (0 off the canvas):
-        the tent-weighted sum of the texels' mobile paint over the column's area ``k^2``."""
+        the weighted sum of the texels' mobile paint over the column's area ``k^2``."""
         out = np.zeros((len(canvas.pigment_names), *self.cells))
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
             return out
         box = self._texel_block(r)
-        wx, wy = self._tents(r, box)
+        wx, wy = self._weights(r, box)
         _, _, mobile = self._mobile(canvas, box)
         out[:, r[0] : r[1], r[2] : r[3]] = _to_columns(mobile, wx, wy) / self.k**2
         return out
@@ -186,7 +206,7 @@ class ColumnWindow:
         """Apply a change of mobile paint per column, (P, nx, ny) metres, to the texels.
 
         ``texture`` (a brush's bristle texture, :mod:`paintapp.paint.bristles`) gives per-texel
-        gain and loss weights that shape where within its tent a column's change lands.
+        gain and loss weights that shape where within its support a column's change lands.
         ``gathered`` is what :meth:`gather` returned for this canvas, unchanged since (a step
         passes it on; otherwise it is gathered again): thin films are dropped column by column
         first, so only the texels of columns whose change survives are read and written (the
@@ -209,7 +229,7 @@ class ColumnWindow:
         sub = (r[0] + a0, r[0] + a1, r[2] + b0, r[2] + b1)
         change, owned = change[:, a0:a1, b0:b1], held[:, a0:a1, b0:b1]
         box = self._texel_block(sub)
-        wx, wy = self._tents(sub, box)
+        wx, wy = self._weights(sub, box)
         paint, wet, mobile = self._mobile(canvas, box)
         shape = texture.weights(box) if texture is not None else None
         new_mobile, touched = _spread_change(mobile, owned, change, wx, wy, shape)
@@ -226,19 +246,31 @@ class ColumnWindow:
         canvas.write_region(box[0], box[1], new_paint, np.clip(new_wet, 0.0, 1.0))
 
 
-def tent_weights(origin: int, k: int, i0: int, i1: int, t0: int, t1: int) -> np.ndarray:
-    """(i1 - i0, t1 - t0) bilinear-hat weights ``max(0, 1 - |x_t - c_i| / k)`` of texels
-    ``t0..t1-1`` (centres ``x_t = t + 1/2``) for columns ``i0..i1-1`` (centres
-    ``c_i = origin + (i + 1/2) k``), texel units. Inside the window's columns they sum to 1 over
-    the columns at every texel (a partition of unity), and to ``k`` over the texels of a column."""
+def reach_cells(k: int, kernel: str = "bspline") -> int:
+    """Cells beyond its own block that a column's weights reach (module docstring)."""
+    return 2 if kernel == "bspline" and k > 1 else 1
+
+
+def transfer_weights(
+    origin: int, k: int, i0: int, i1: int, t0: int, t1: int, kernel: str = "bspline"
+) -> np.ndarray:
+    """(i1 - i0, t1 - t0) weights ``B(|x_t - c_i| / k)`` (module docstring; the tent
+    ``max(0, 1 - |t|)`` for ``kernel = "tent"`` or ``k = 1``) of texels ``t0..t1-1`` (centres
+    ``x_t = t + 1/2``) for columns ``i0..i1-1`` (centres ``c_i = origin + (i + 1/2) k``), texel
+    units. Inside the window's columns they sum to 1 over the columns at every texel (a partition
+    of unity), and to ``k`` over the texels of a column."""
     centres = origin + (np.arange(i0, i1) + 0.5) * k
     texels = np.arange(t0, t1) + 0.5
-    return np.maximum(1.0 - np.abs(texels[None, :] - centres[:, None]) / k, 0.0)
+    t = np.abs(texels[None, :] - centres[:, None]) / k
+    if kernel == "tent" or k == 1:
+        return np.maximum(1.0 - t, 0.0)
+    outer = 0.5 * (1.5 - np.minimum(t, 1.5)) ** 2
+    return np.where(t <= 0.5, 0.75 - t * t, outer)
 
 
-class Tent:
-    """One axis's tent weights (columns, texels) as a sparse matrix: each texel has at most two
-    columns, so the transfers cost a few operations per texel, not one per column."""
+class AxisWeights:
+    """One axis's transfer weights (columns, texels) as a sparse matrix: each texel has at most
+    three columns, so the transfers cost a few operations per texel, not one per column."""
 
     def __init__(self, weights: np.ndarray) -> None:
         self.matrix = sparse.csr_matrix(weights)
@@ -247,8 +279,8 @@ class Tent:
         self.sums = np.asarray(self.matrix.sum(axis=1)).ravel()
 
 
-def _to_columns(texels: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
-    """(P, ny_t, nx_t) texel values -> (P, ni, nj) tent-weighted sums (grid order: x first)."""
+def _to_columns(texels: np.ndarray, wx: AxisWeights, wy: AxisWeights) -> np.ndarray:
+    """(P, ny_t, nx_t) texel values -> (P, ni, nj) weighted sums (grid order: x first)."""
     p, ny, nx = texels.shape
     nj, ni = wy.shape[0], wx.shape[0]
     a = wy.matrix @ texels.transpose(1, 0, 2).reshape(ny, p * nx)  # (nj, P nx)
@@ -256,8 +288,8 @@ def _to_columns(texels: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
     return (wx.matrix @ a).reshape(ni, p, nj).transpose(1, 0, 2)
 
 
-def _to_texels(columns: np.ndarray, wx: Tent, wy: Tent) -> np.ndarray:
-    """(P, ni, nj) column values -> (P, ny_t, nx_t) tent-weighted sums over the columns."""
+def _to_texels(columns: np.ndarray, wx: AxisWeights, wy: AxisWeights) -> np.ndarray:
+    """(P, ni, nj) column values -> (P, ny_t, nx_t) weighted sums over the columns."""
     p, ni, nj = columns.shape
     nx, ny = wx.shape[1], wy.shape[1]
     a = wx.transposed @ columns.transpose(1, 0, 2).reshape(ni, p * nj)  # (nx, P nj)
@@ -275,7 +307,7 @@ def close_pinholes(
     """Wet paint (P, ny, nx) with no pinholes, and the texels that changed.
 
     A pinhole is a changed texel left with at most :data:`FILM_FLOOR_M` of paint whose eight
-    neighbours all hold more than twice that (the tent's overlapping losses can empty one texel
+    neighbours all hold more than twice that (the columns' overlapping losses can empty one texel
     inside a painted area). Wet paint does not keep a hole a texel wide: each neighbour gives it
     1/9 of its wet paint, per pigment, so it ends with about the neighbours' mean. Conserved
     exactly and never negative (a neighbour gives at most 8/9). Texels on the box's edge are
@@ -341,24 +373,24 @@ def _spread_change(
     mobile: np.ndarray,
     owned: np.ndarray,
     change: np.ndarray,
-    wx: Tent,
-    wy: Tent,
+    wx: AxisWeights,
+    wy: AxisWeights,
     shape: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """New mobile paint per texel (P, ny_t, nx_t) after column changes ``change`` (P, ni, nj,
-    texel volumes: metres times texels; ``owned``: the columns' tent-weighted mobile paint in
+    texel volumes: metres times texels; ``owned``: the columns' weighted mobile paint in
     the same units), and the (ny_t, nx_t) texels that changed.
 
-    A gain is laid down with the column's tent weights, normalised over its texels on the
-    canvas; a loss takes the same fraction ``f`` of the tent-weighted mobile paint of every texel
+    A gain is laid down with the column's weights, normalised over its texels on the
+    canvas; a loss takes the same fraction ``f`` of the weighted mobile paint of every texel
     in the column's support (``f <= 1``, so with the weights' partition of unity no texel loses
     more than it holds).
 
     With ``shape`` = (gain weights ``g``, loss weights ``b`` in [0, 1]) per texel, a gain is laid
-    down with the tent weights times ``g`` (normalised per column), and a loss is taken first as
-    a fraction ``f`` of the tent-and-``b``-weighted paint, any rest as a fraction ``r`` of the
-    tent-and-``(1 - b)``-weighted paint: a texel loses ``m (b F + (1 - b) R)`` with ``F``, ``R``
-    the tent sums of the columns' fractions, both at most 1, so again no texel loses more than
+    down with the weights times ``g`` (normalised per column), and a loss is taken first as
+    a fraction ``f`` of the ``b``-weighted paint, any rest as a fraction ``r`` of the
+    ``(1 - b)``-weighted paint: a texel loses ``m (b F + (1 - b) R)`` with ``F``, ``R``
+    the weighted sums of the columns' fractions, both at most 1, so again no texel loses more than
     it holds, and each column loses exactly its loss."""
     if shape is None:
         support = np.outer(wx.sums, wy.sums)[None]  # (1, ni, nj)

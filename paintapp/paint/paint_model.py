@@ -9,7 +9,7 @@ grid itself keeps no paint between steps, only its fluid velocity.
 
 Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels more than
 :data:`MAX_TRAVEL_CELLS` cells, are split into equal sub-steps (the travel into at most
-:data:`MAX_TRAVEL_SUBSTEPS`) along the straight line between the poses: the brush then touches every column along its path, and with the tent transfer between
+:data:`MAX_TRAVEL_SUBSTEPS`) along the straight line between the poses: the brush then touches every column along its path, and with the B-spline transfer between
 columns and texels (:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even
 band instead of a comb of separate prints.
 
@@ -164,7 +164,7 @@ class PaintModel(ABC):
         self.needs = needs or ForceNeeds()
         ref = reference_cells or cells_xy[0]
         k = cell_texels(brush_width_m(preset), square_texel_m(canvas), ref, scene.span)
-        self.window = ColumnWindow(canvas, cells_xy, k)
+        self.window = ColumnWindow(canvas, cells_xy, k, scene.transfer)
         self.margin_cells = scaled_margin(scene.margin_cells, ref, cells_xy)
         self.pose: TipPose | None = None
         #: Direction of the tip's last lateral motion (canvas plane): the bristles' streaks

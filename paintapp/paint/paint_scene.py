@@ -22,6 +22,8 @@ A scene file::
     settle_on_lift = true           # the paint flows back into the tip's footprint at lift-off
     texel_flow = false              # grid3d: true lets the grid's flow move the canvas's texels
                                     # (false: the columns' transported change is spread to them)
+    transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
+                                    # (a half cell crisper at the stroke's edges, a faint lattice)
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
@@ -53,6 +55,10 @@ from common.tables import Table
 from paintapp.resources import asset_path
 from solver.scene import method_keys
 from solver.solver_settings import SolverSettings
+
+#: Kernels that trade paint between the grid's columns and the canvas texels
+#: (:func:`paintapp.paint.columns.transfer_weights`).
+TRANSFER_KERNELS = ("bspline", "tent")
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
@@ -119,6 +125,10 @@ class PaintScene:
         texel_flow: the 3D grid's depth-averaged flow moves the canvas's wet paint on the
             texels (:mod:`paintapp.paint.wet_flow`); False transports the paint in the grid's
             columns and spreads each column's change over its texels.
+        transfer: the kernel that trades paint between the grid's columns and the texels
+            (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
+            or ``"tent"`` (reaches half a cell less beyond a stroke, but its slope jumps at
+            column centres and prints a faint lattice where thin films turn colour).
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
@@ -140,6 +150,7 @@ class PaintScene:
     max_height_m: float = 0.002
     settle_on_lift: bool = True
     texel_flow: bool = False
+    transfer: str = "bspline"
     pickup_fraction: float = 0.3
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
@@ -208,6 +219,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         ),
         settle_on_lift=_boolean(paint, "settle_on_lift", True),
         texel_flow=_boolean(paint, "texel_flow", False),
+        transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from paintapp.canvas.lattice import lattice_ratio, lattice_table
+from paintapp.canvas.lattice import lattice_ratio, lattice_table, null_ratio
 
 
 def smooth_image(n: int = 120) -> np.ndarray:
@@ -31,6 +31,26 @@ def test_box_blocks_show_their_period_and_a_tent_interpolation_does_not():
     inner = tent[k:-k, k:-k]
     assert lattice_ratio(inner, k) < 1.1
     assert lattice_ratio(np.dstack([inner, 2 * inner]), k) < 1.1  # colour: channels together
+
+
+def test_the_floor_tells_a_few_strokes_from_a_lattice():
+    """A handful of sharp-edged strokes at random places lifts the ratio at a long period above
+    1.1 without any lattice, and the floor (the phases dealt at random) says so; box blocks'
+    ratio stands far above their floor."""
+    rng = np.random.default_rng(3)
+    strokes = np.zeros((240, 240))
+    for _ in range(6):
+        x0, y0 = rng.integers(0, 200, 2)
+        strokes[y0 : y0 + rng.integers(8, 40), x0 : x0 + rng.integers(30, 120)] += rng.random()
+    ratio = lattice_ratio(strokes, 12)
+    floor, share = null_ratio(strokes, 12)
+    assert ratio > 1.1 and floor > 1.1  # no lattice, yet above 1.1
+    assert share > 0.05  # as high as chance gives
+    k = 5
+    boxes = np.kron(rng.random((48, 48)), np.ones((k, k)))
+    floor, share = null_ratio(boxes, k)
+    assert lattice_ratio(boxes, k) > 2.0 * floor and share == 0.0
+    assert null_ratio(strokes, 12) == null_ratio(strokes, 12)  # reproducible
 
 
 def test_bad_periods_are_refused():

@@ -220,3 +220,11 @@ def test_the_solver_table_takes_the_boundary_method_and_names_a_bad_one():
     with pytest.raises(InputError, match=r"solver\.boundary_method") as info:
         parse_paint_scene({"solver": {"boundary_method": "voxels"}}, "x")
     assert "cutcell" in str(info.value) and "staircase" in str(info.value)
+
+
+def test_the_paint_table_takes_the_transfer_kernel_and_names_a_bad_one():
+    assert parse_paint_scene({}, "x").transfer == "bspline"
+    assert parse_paint_scene({"paint": {"transfer": "tent"}}, "x").transfer == "tent"
+    with pytest.raises(InputError, match=r"paint\.transfer") as info:
+        parse_paint_scene({"paint": {"transfer": "box"}}, "x")
+    assert "bspline" in str(info.value) and "tent" in str(info.value)

@@ -10,7 +10,7 @@ import pytest
 from brushes import StylusSample, TipTracker, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
-from paintapp.paint.columns import ColumnWindow, cell_texels
+from paintapp.paint.columns import ColumnWindow, cell_texels, transfer_weights
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import brush_width_m
@@ -49,6 +49,26 @@ def test_window_snaps_to_the_block_lattice_and_recentres_only_past_the_margin():
     assert (di, dj) == (5, -6)
 
 
+@pytest.mark.parametrize("k", [2, 3, 4, 5, 7, 12])
+@pytest.mark.parametrize("kernel", ["bspline", "tent"])
+def test_transfer_weights_are_a_partition_of_unity_summing_to_k_per_column(k, kernel):
+    w = transfer_weights(-3 * k, k, 0, 12, 0, 6 * k, kernel)  # columns reaching past both ends
+    np.testing.assert_allclose(w.sum(axis=0), 1.0, atol=1e-12)  # every texel
+    np.testing.assert_allclose(w[4:8].sum(axis=1), k, rtol=1e-12)  # columns wholly inside
+    assert w.min() >= 0.0
+    reach = np.abs(np.arange(6 * k)[None, :] + 0.5 - (-3 * k + (np.arange(12)[:, None] + 0.5) * k))
+    assert np.all(w[reach >= (1.5 if kernel == "bspline" else 1.0) * k] == 0.0)
+    # What a step in the columns lays down: the spline's slope changes smoothly (second
+    # differences 1 / k^2), the tent's jumps by 1 / k at a column centre (split over two texel
+    # boundaries when k is even).
+    curvature = np.abs(np.diff((np.arange(12) >= 6).astype(float) @ w, 2)).max()
+    if kernel == "bspline":
+        assert curvature < 1.01 / k**2
+    elif k >= 3:
+        assert curvature > 0.49 / k
+    assert np.allclose(transfer_weights(0, 1, 0, 4, 0, 4, kernel), np.eye(4))  # k = 1: identity
+
+
 def test_gather_takes_only_the_wet_paint_and_unchanged_columns_are_not_written():
     canvas = painted_canvas()
     window = ColumnWindow(canvas, (16, 16), 2)
@@ -59,8 +79,10 @@ def test_gather_takes_only_the_wet_paint_and_unchanged_columns_are_not_written()
     assert r is not None
     i, j = r[0] + 3, r[2] + 5
     x0, y0 = window.origin_texel[0] + 2 * i, window.origin_texel[1] + 2 * j
-    near = mobile[:, y0 - 2 : y0 + 4, x0 - 2 : x0 + 4]  # the block and one cell around
-    hat = np.maximum(1.0 - np.abs(np.arange(-2, 4) + 0.5 - 1.0) / 2.0, 0.0)  # tent, k = 2
+    near = mobile[:, y0 - 2 : y0 + 4, x0 - 2 : x0 + 4]  # the block and the spline's reach
+    # quadratic B-spline, k = 2: texel centres 1.25, 0.75, 0.25 cells either side of the column's
+    hat = np.array([0.5 * 0.25**2, 0.5 * 0.75**2, 0.75 - 0.25**2])
+    hat = np.concatenate([hat, hat[::-1]])
     np.testing.assert_allclose(hat.sum(), 2.0)
     expected = (near * hat[None, :, None] * hat[None, None, :]).sum(axis=(1, 2)) / 4.0
     np.testing.assert_allclose(columns[:, i, j], expected)

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 from scipy.ndimage import binary_fill_holes
 
-from paintapp.canvas.lattice import lattice_ratio
+from paintapp.canvas.lattice import lattice_ratio, null_ratio
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.texel_flow import advance, substeps_needed
@@ -147,10 +147,13 @@ def test_a_straight_stroke_carries_no_cell_lattice():
     scene = dataclasses.replace(small_scene(), texel_flow=True)
     canvas, k = diagonal_stroke(scene)
     assert lattice_ratio(canvas.height_m.astype(np.float64), k) <= 1.15
-    # The colour's edge: clearly less of the cell's lattice than spreading column changes gives
-    # (1.5 against 1.8 here; one stroke's own edges keep the figure above 1 at every period).
+    # The colour's edge, with the flow and with the columns' transfer alone (measured 1.10 and
+    # 1.15; the columns' tent transfer gave 1.8): no more than the stroke's own edges give
+    # without any lattice (the phases dealt at random: floor 1.33-1.41, and most deals higher).
     old, _ = diagonal_stroke(dataclasses.replace(scene, texel_flow=False))
-    assert lattice_ratio(coverage(canvas), k) < 0.9 * lattice_ratio(coverage(old), k)
+    for painted in (canvas, old):
+        assert lattice_ratio(coverage(painted), k) <= 1.2
+        assert null_ratio(coverage(painted), k)[1] >= 0.5
 
 
 def test_the_thin_edge_runs_back_whole_and_leaves_no_hole():
