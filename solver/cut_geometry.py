@@ -5,9 +5,17 @@ velocity sample points (face centres) and at the cell centres (which give the vo
 only in a window around each probe, in one call of the probe's SDF (3D: at the nodes only, the
 face and cell centres taking the mean of their corners). From the node values:
 
-* the **open fraction** ``w`` of every face (the part of its length, 2D, or area, 3D, outside all
-  probes): exact for a linear SDF along a 2D face, and Batty's square rule (the corners' marching
-  squares) on a 3D face; fractions below ``MIN_FRACTION`` are closed (no tiny cut faces in the
+* the **open fraction** ``w`` of every face, its weight in the pressure projection. 2D: the fluid
+  share of the face's staggered control volume (the cell-sized square from one cell centre to the
+  next across the face, Batty, Bertails & Bridson 2007), by the square rule on its corners, the
+  other component's face centres; 3D: the part of the face's area outside all probes, by the
+  square rule on its corner nodes. A face's open *length* jumps where a surface runs along the
+  face: behind a towed disk the faces at its rear pole opened from 0 to 1 within a fiftieth of a
+  cell of travel, and each opening dipped the drag for a step (D/h 16: largest jump 3.67 % of
+  the mean drag with lengths, 2.96 % with control volumes; at 0.6 m/s 4.78 against 2.18 %; the
+  paper's square sweep at 64^2, force / torque noise 0.113 / 0.995 against 0.041 / 0.346). A
+  control volume's fluid share changes smoothly as a surface crosses it. Fractions below
+  ``MIN_FRACTION`` are closed (no tiny cut faces in the
   pressure matrix: a sliver of a face between a probe and a wall would otherwise carry the
   probe's whole displaced volume, hundreds of m/s, into the flow; a cell whose faces are all
   closed leaves the pressure system);
@@ -18,7 +26,8 @@ face and cell centres taking the mean of their corners). From the node values:
 
 A box probe's corners can be rounded at the grid's scale (``SolverSettings.corner_radius_cells``,
 passed to :meth:`CutGeometry.update` in metres): a corner sharper than a cell cannot be resolved,
-and its pressure singularity makes the force jump at each cell the corner crosses.
+and its pressure singularity, sampled wherever the corner sits in its cell, adds to the force's
+jitter as the corner crosses cells.
 
 Arrays are stored like the MAC samples (``[i, j, k]``, x first); outside the probes' windows
 ``w = 1``, fluid fraction 1, signed distance ``FAR``, owner -1.
@@ -108,16 +117,26 @@ def fraction_inside_square(c0, c1, c2, c3):
 
 
 @njit(cache=True, nogil=True)
-def open_fractions(phi_node, owner_node, dim, axis, lo, hi, w, owner):
+def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner):
     """Open fraction and solid owner of the faces of component ``axis`` in the window
-    ``lo <= (i, j, k) < hi`` (face indices), from the node SDF ``phi_node``."""
+    ``lo <= (i, j, k) < hi`` (face indices): 2D, the fluid share of each face's staggered control
+    volume, whose corners are the other component's face centres ``phi_other`` (on the domain's
+    sides the half inside it); 3D, the open share of the face from the node SDF ``phi_node``."""
     for i in range(lo[0], hi[0]):
         for j in range(lo[1], hi[1]):
             for k in range(lo[2], hi[2]):
                 if dim == 2:
                     i1, j1 = (i, j + 1) if axis == 0 else (i + 1, j)
                     a, b = phi_node[i, j, 0], phi_node[i1, j1, 0]
-                    f = 1.0 - fraction_inside_segment(a, b)
+                    if axis == 0:  # control volume: cell centre to cell centre across the face
+                        il, ir = max(i - 1, 0), min(i, phi_other.shape[0] - 1)
+                        c0, c1 = phi_other[il, j, 0], phi_other[ir, j, 0]
+                        c2, c3 = phi_other[ir, j + 1, 0], phi_other[il, j + 1, 0]
+                    else:
+                        jl, jr = max(j - 1, 0), min(j, phi_other.shape[1] - 1)
+                        c0, c1 = phi_other[i, jl, 0], phi_other[i + 1, jl, 0]
+                        c2, c3 = phi_other[i + 1, jr, 0], phi_other[i, jr, 0]
+                    f = 1.0 - fraction_inside_square(c0, c1, c2, c3)
                     o = owner_node[i, j, 0] if a <= b else owner_node[i1, j1, 0]
                 else:
                     if axis == 0:
@@ -243,7 +262,8 @@ class CutGeometry:
         for lo, hi in self.windows:
             for a in range(d):
                 face_hi = hi + np.eye(3, dtype=np.int64)[a]
-                open_fractions(self.phi_node, self.owner_node, d, a, lo, face_hi,
+                open_fractions(self.phi_node, self.phi_face[1 - a] if d == 2 else self.phi_node,
+                               self.owner_node, d, a, lo, face_hi,
                                self.open_frac[a], self.owner_face[a])  # fmt: skip
             wx, wy, wz = self.open_frac
             fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)

@@ -18,14 +18,12 @@ class SolverSettings:
     distances, the variational projection, no-slip at the true surface, force from the cut
     surface) or ``staircase`` (the paper's voxelized probe, eqs. 14-18; for comparison).
     ``corner_radius_cells`` (cut cells only): a box probe's edges and corners are rounded with
-    this radius, in cells. A corner sharper than the grid cannot be resolved: the flow's pressure
-    singularity there, sampled wherever the corner sits in its cell, makes the force jump at
-    every cell the corner crosses. The paper's square sweep at 64^2 (force / torque noise;
-    staircase 0.366 / 2.65): sharp 0.113 / 0.995, 0.5 cell 0.068 / 0.630, 0.75 cell 0.047 /
-    0.401, 1 cell 0.034 / 0.263. The rounding costs force: the 64^2 sweep's smoothed force moves
-    from 18.4 % to 21.9 % off a sharp 128^2 run at 0.75 cell (24.1 % at 1 cell), and at 1 cell a
-    4-cell box pushed into a wall squeezes 10x its speed through a sliver face. 0 keeps corners
-    sharp.
+    this radius, in cells (0, the default, keeps them sharp). A corner sharper than the grid
+    cannot be resolved: the flow's pressure singularity there, sampled wherever the corner sits in
+    its cell, adds jitter as the corner crosses cells. The paper's square sweep at 64^2 (force /
+    torque noise; staircase 0.366 / 2.65): sharp 0.041 / 0.346, 0.5 cell 0.033 / 0.209, 0.75
+    cell 0.028 / 0.178, 1 cell 0.026 / 0.186. The rounding costs force: the 64^2 sweep's smoothed
+    force is 18.7 % off a sharp 128^2 run with sharp corners, 21.0 % at 0.75 cell.
     ``pressure_scheme``: ``incremental``
     (pressure correction: steady states independent of dt), ``chorin`` (the paper's
     non-incremental projection) or ``auto`` (incremental with cut cells, chorin with the
@@ -48,7 +46,7 @@ class SolverSettings:
     control_volume_margin: int = 3
     probe_forces: bool = True
     boundary_method: str = "cutcell"
-    corner_radius_cells: float = 0.75
+    corner_radius_cells: float = 0.0
     pressure_scheme: str = "auto"
     preconditioner: str = "multigrid"
     viscosity_preconditioner: str = "auto"
