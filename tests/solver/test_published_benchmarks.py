@@ -75,18 +75,18 @@ def test_schaefer_turek_2d1_drag_and_pressure_difference():
 @pytest.mark.slow
 def test_schaefer_turek_2d2_sheds_vortices_within_2_percent_of_the_published_figures():
     """Benchmark 2D-2 (Re 100: parabolic inflow peaking at 1.5 m/s, U_mean 1 m/s), D/h 30 (660 x
-    123), cut cells, MacCormack, dt = h / (6 m/s) (CFL 0.25 on the peak), t = 8 s; over the last
-    3 s. Published: St 0.295-0.305, c_D max 3.22-3.24, c_L max 0.99-1.01; the target is each
-    within 2 % of its range. Measured: St 0.2957, c_D max 3.193 (0.9 % below), c_L max 0.9721
-    (1.8 % below). Coarser runs miss: D/h 20 at CFL 0.5 0.2866 / 3.258 / 0.926, at CFL 0.25
-    0.2913 / 3.232 / 0.941; D/h 30 at CFL 0.5 0.2924 / 3.207 / 0.964 (first-order time
-    splitting: the Strouhal number rises as dt falls)."""
+    123), cut cells, MacCormack, dt = h / (7.5 m/s) (CFL 0.2 on the peak), t = 8 s; over the
+    last 3 s. Published: St 0.295-0.305, c_D max 3.22-3.24, c_L max 0.99-1.01; the target is each
+    within 2 % of its range. Measured: St 0.2965, c_D max 3.1865 (1.0 % below), c_L max 0.9714
+    (1.9 % below: the closest). At CFL 0.25 c_L max saturates at 0.9702 (t = 10 s), 2.0 % below;
+    at D/h 20 and CFL 0.5 the figures were 0.2866 / 3.258 / 0.926 (first-order time splitting:
+    the Strouhal number rises as dt falls; c_L max grows with the resolution)."""
     grid = Grid.from_size((2.2, 0.41), (660, 123))
     sides = {"x_min": Side("inflow", (1.5, 0.0), "parabolic"), "x_max": Side("outflow")}
     probe = Probe("cylinder", Ball(0.05), 2, np.array([0.2, 0.2]))
     settings = SolverSettings(advection="maccormack")
     sim = Simulation(grid, Fluid(1.0, 1e-3), DomainBoundary(grid, sides), [probe], settings)
-    dt = grid.cell_size_m / 6.0
+    dt = grid.cell_size_m / 7.5
     forces = []
     for _ in range(round(8.0 / dt)):
         sim.step(dt)
