@@ -117,13 +117,18 @@ def _read_png(path: Path) -> np.ndarray:
 
 def main(argv: list[str]) -> int:
     """Print the colour and height ratios of a demo output folder, with their floors."""
+    from common.errors import InputError
     from paintapp.canvas.exr import read_canvas_exr
 
     folder = Path(argv[0]) if argv else Path("paintapp-demo")
-    images = {
-        "colour": _read_png(folder / "preview.png"),
-        "height": read_canvas_exr(folder / "canvas.exr").height_m,
-    }
+    try:
+        images = {
+            "colour": _read_png(folder / "preview.png"),
+            "height": read_canvas_exr(folder / "canvas.exr").height_m,
+        }
+    except (OSError, InputError) as err:
+        print(f"lattice: error: {err} (expected a paintapp demo folder)", file=sys.stderr)
+        return 2
     print("period  colour (floor, share)   height (floor, share)")
     worst = dict.fromkeys(images, 0.0)
     for p in PERIODS:

@@ -43,6 +43,7 @@ from common.errors import InputError
 from paintapp.canvas.model import FILM_FLOOR_M as CANVAS_FILM_FLOOR_M
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
+from paintapp.paint.paint_scene import TRANSFER_KERNELS
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
@@ -94,8 +95,8 @@ class ColumnWindow:
         texels_per_cell: int,
         kernel: str = "bspline",
     ) -> None:
-        if kernel not in ("bspline", "tent"):
-            raise ValueError(f"kernel must be bspline or tent, got {kernel!r}")
+        if kernel not in TRANSFER_KERNELS:
+            raise ValueError(f"kernel must be one of {TRANSFER_KERNELS}, got {kernel!r}")
         self.kernel = kernel
         self.texel_m = square_texel_m(canvas)
         self.k = int(texels_per_cell)

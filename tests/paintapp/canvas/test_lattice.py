@@ -69,3 +69,11 @@ def test_holes_are_unpainted_texels_the_painting_encloses():
     height[25:35, 30] = 0.0  # a cut through to the outside is no hole
     assert count_holes(height) == (7, 2)
     assert count_holes(np.zeros((8, 8))) == (0, 0)
+
+
+def test_the_command_names_a_missing_folder_without_a_traceback(tmp_path, capsys):
+    from paintapp.canvas.lattice import main
+
+    assert main([str(tmp_path / "none")]) == 2
+    err = capsys.readouterr().err
+    assert "preview.png" in err and "demo folder" in err and "Traceback" not in err
