@@ -145,7 +145,8 @@ def print_explanation(result: ReplayResult, fidelity: str | None) -> None:
         f"scene {s.name!r} ({s.fluid_model}), fidelity {name} ({FIDELITIES[name].description}): "
         f"cells {'x'.join(map(str, s.cells))}, pressure tol {s.solver.pressure_tolerance:g}, "
         f"viscosity tol {s.solver.viscosity_tolerance:g}, cap {s.solver.max_iterations}, "
-        f"advection {s.solver.advection}, max step {s.max_step_s:.4g} s"
+        f"advection {s.solver.advection}, max step {s.max_step_s:.4g} s, travel per step at "
+        f"most {s.max_travel_cells:g} cells (up to {s.max_travel_substeps} sub-steps)"
     )
     print(explain_session(result.session, header))
 

@@ -34,6 +34,7 @@ from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import (
     CellSpace,
     ExchangeReport,
+    cell_caps,
     deposit_volume,
     exchange_with_brush,
 )
@@ -206,9 +207,12 @@ class PaintGridDepthAveraged(PaintModel):
     ) -> ExchangeReport:
         assert self.sim is not None and self.probe is not None
         s, h = self.scene, self.cell_size_m
-        space = CellSpace(unit=h * h, capacity=s.max_height_m, deposit_k_max=0)
+        label, cut = self.sim.state.label, self.sim.cut
+        caps = cell_caps(s.max_height_m, label, None if cut is None else cut.fluid_frac)
+        space = CellSpace(h * h, caps, 0, s.max_height_m)
         speed = float(np.hypot(*self.probe.velocity_m_s))
         offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, s.deposit_length_m)
+        plough = self.plough(self.sim.grid, self.probe.centre_m, self.probe.velocity_m_s, dt_s)
         return exchange_with_brush(
-            q, self.sim.state.label, reservoir, names, space, s.pickup_fraction, offer
+            q, label, reservoir, names, space, s.pickup_fraction, offer, plough
         )

@@ -27,11 +27,18 @@ import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from paintapp.canvas.model import Canvas
-from paintapp.paint.exchange import CellSpace, ExchangeReport, deposit_volume, exchange_with_brush
+from paintapp.paint.exchange import (
+    CellSpace,
+    ExchangeReport,
+    cell_caps,
+    deposit_volume,
+    exchange_with_brush,
+)
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.texel_velocity import column_face_velocity
+from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
 from paintapp.paint.wet_flow import flow_wet_paint
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
@@ -134,6 +141,10 @@ class PaintGrid3D(PaintModel):
         sim.set_viscosity(self.viscosity_field(q))
         probe.shape = self.preset.tip(pose.splay)
         probe.drive_to(pressed_centre(pose, centre_m), pose.orientation, dt_s)
+        before_step = (
+            sim.state.label.copy(),
+            None if sim.cut is None else sim.cut.fluid_frac.copy(),
+        )
         clock.mark("read")
         try:
             sim.step(dt_s)
@@ -146,7 +157,7 @@ class PaintGrid3D(PaintModel):
                 if not all(np.isfinite(f).all() for f in flow):
                     raise FloatingPointError("non-finite velocity in the paint grid")
             else:
-                substeps = transport(q, sim.state.comps, sim.state.face_types, 3, h, dt_s)
+                substeps = self._transport(q, dt_s, *before_step)
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
@@ -179,6 +190,33 @@ class PaintGrid3D(PaintModel):
             channels=len(used),
         )
 
+    def _transport(
+        self, q: np.ndarray, dt_s: float, label_before: np.ndarray, fluid_before: np.ndarray | None
+    ) -> int:
+        """Move the paint with the step's velocity through the faces' open parts, then lay what
+        piled up against the tip in the room it vacated (:mod:`paintapp.paint.trail`); returns
+        the transport's sub-steps."""
+        assert self.sim is not None
+        sim = self.sim
+        label, cut = sim.state.label, sim.cut
+        open_frac = None if cut is None else cut.open_frac
+        fluid = None if cut is None else cut.fluid_frac
+        vel, types = paint_faces(sim.state.comps, sim.state.face_types, label, open_frac, fluid)
+        substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s)
+        share = vacated_share(label_before, label, fluid_before, fluid)
+        lay_trail(q, label, share, self._cell_space(label))
+        return substeps
+
+    def _cell_space(self, label: np.ndarray) -> CellSpace:
+        """Cell volume and each cell's capacity (its fluid fraction of a full cell); deposits go
+        into the layer above the tip's lowest."""
+        assert self.sim is not None
+        layers = np.flatnonzero((label >= 0).any(axis=(0, 1)))
+        lowest = int(layers[0]) if layers.size else 0
+        cut = self.sim.cut
+        caps = cell_caps(1.0, label, None if cut is None else cut.fluid_frac)
+        return CellSpace(self.cell_size_m**3, caps, lowest + 1, 1.0)
+
     def _exchange(
         self,
         q: np.ndarray,
@@ -189,11 +227,9 @@ class PaintGrid3D(PaintModel):
     ) -> ExchangeReport:
         assert self.sim is not None and self.probe is not None
         label = self.sim.state.label
-        layers = np.flatnonzero((label >= 0).any(axis=(0, 1)))
-        if layers.size == 0:
+        if not (label >= 0).any():
             return ExchangeReport()
-        h = self.cell_size_m
-        space = CellSpace(unit=h**3, capacity=1.0, deposit_k_max=int(layers[0]) + 1)
+        space = self._cell_space(label)
         speed = float(np.hypot(*self.probe.velocity_m_s[:2]))
         offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, self.scene.deposit_length_m)
         return exchange_with_brush(
@@ -204,4 +240,5 @@ class PaintGrid3D(PaintModel):
             space,
             self.scene.pickup_fraction,
             offer,
+            self.plough(self.sim.grid, self.probe.centre_m, self.probe.velocity_m_s, dt_s),
         )

@@ -33,17 +33,29 @@ def fill_columns(column_m, h, out):
 
 
 @njit(cache=True, nogil=True)
-def sweep_probe_cells(q, label, unit, swept):
-    """Take the paint out of every probe cell (label >= 0) into ``swept`` (P,) volumes."""
+def sweep_overlap(q, cap, full, unit, swept):
+    """Take the paint that overlaps the tip out of every cell into ``swept`` (P,) volumes.
+
+    A cell the tip covers in whole or in part (``cap`` below the full capacity ``full``: its
+    fluid share of it, 0 inside the tip) keeps at most ``cap``; of a cell holding more, each
+    pigment gives up its share of the excess. Cells the tip does not reach are left alone.
+    """
     n_p, nx, ny, nz = q.shape
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
-                if label[i, j, k] < 0:
+                if cap[i, j, k] >= full:
                     continue
+                total = 0.0
                 for p in range(n_p):
-                    swept[p] += q[p, i, j, k] * unit
-                    q[p, i, j, k] = 0.0
+                    total += q[p, i, j, k]
+                excess = total - cap[i, j, k]
+                if excess <= 0.0 or total <= 0.0:
+                    continue
+                keep = cap[i, j, k] / total if cap[i, j, k] > 0.0 else 0.0
+                for p in range(n_p):
+                    swept[p] += q[p, i, j, k] * (1.0 - keep) * unit
+                    q[p, i, j, k] *= keep
 
 
 @njit(cache=True, nogil=True)
@@ -76,44 +88,52 @@ def probe_rings(label, max_ring, dist):
 
 
 @njit(cache=True, nogil=True)
-def _ring_room(q, dist, ring, k_max, capacity):
+def _ring_room(q, dist, ring, k_max, cap, weight):
+    """Free room (``cap`` less the paint) of ``ring``'s cells up to layer ``k_max``, each
+    column's times ``weight[i, j]``."""
     n_p, nx, ny, nz = q.shape
     room = 0.0
     for i in range(nx):
         for j in range(ny):
+            if weight[i, j] <= 0.0:
+                continue
             for k in range(min(nz, k_max + 1)):
                 if dist[i, j, k] != ring:
                     continue
                 used = 0.0
                 for p in range(n_p):
                     used += q[p, i, j, k]
-                room += max(capacity - used, 0.0)
+                room += weight[i, j] * max(cap[i, j, k] - used, 0.0)
     return room
 
 
 @njit(cache=True, nogil=True)
-def _fill_ring(q, dist, ring, k_max, capacity, amount, share):
-    """Add ``share * amount[p] * room_cell`` to every cell of ``ring`` (per unit of room)."""
+def _fill_ring(q, dist, ring, k_max, cap, weight, amount, share):
+    """Add ``share * amount[p] * weight * room_cell`` to every cell of ``ring``."""
     n_p, nx, ny, nz = q.shape
     for i in range(nx):
         for j in range(ny):
+            if weight[i, j] <= 0.0:
+                continue
             for k in range(min(nz, k_max + 1)):
                 if dist[i, j, k] != ring:
                     continue
                 used = 0.0
                 for p in range(n_p):
                     used += q[p, i, j, k]
-                room = max(capacity - used, 0.0)
+                room = weight[i, j] * max(cap[i, j, k] - used, 0.0)
                 for p in range(n_p):
                     q[p, i, j, k] += share * amount[p] * room
 
 
 @njit(cache=True, nogil=True)
-def spread_into_rings(q, dist, first, last, k_max, capacity, unit, volume):
+def spread_into_rings(q, dist, first, last, k_max, cap, weight, unit, volume):
     """Place paint volumes ``volume`` (P,) in the free room of rings ``first..last``, nearest first.
 
     Within a ring each cell (with layer index <= ``k_max``) takes a share proportional to its free
-    room ``capacity - sum_p q``, each pigment in the proportions of ``volume``; a ring is filled
+    room ``cap - sum_p q`` (``cap`` per cell: its fluid share of the capacity) times its column's
+    ``weight[i, j]`` (>= 0, at most 1; a column of
+    weight 0 takes nothing), each pigment in the proportions of ``volume``; a ring is filled
     before the next one gets anything. ``volume`` is reduced in place to what did not fit.
     """
     n_p = q.shape[0]
@@ -124,11 +144,11 @@ def spread_into_rings(q, dist, first, last, k_max, capacity, unit, volume):
             total += amount[p]
         if total <= 0.0:
             break
-        room = _ring_room(q, dist, ring, k_max, capacity)
+        room = _ring_room(q, dist, ring, k_max, cap, weight)
         if room <= 0.0:
             continue
         take = min(total, room)
-        _fill_ring(q, dist, ring, k_max, capacity, amount, take / (total * room))
+        _fill_ring(q, dist, ring, k_max, cap, weight, amount, take / (total * room))
         for p in range(n_p):
             amount[p] *= 1.0 - take / total
     for p in range(n_p):

@@ -8,10 +8,12 @@ canvas, lets the model move it (and trade it with the brush), and writes the cha
 grid itself keeps no paint between steps, only its fluid velocity.
 
 Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels more than
-:data:`MAX_TRAVEL_CELLS` cells, are split into equal sub-steps (the travel into at most
-:data:`MAX_TRAVEL_SUBSTEPS`) along the straight line between the poses: the brush then touches every column along its path, and with the B-spline transfer between
-columns and texels (:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even
-band instead of a comb of separate prints.
+``scene.max_travel_cells`` cells, are split into equal sub-steps (the travel into at most
+``scene.max_travel_substeps``) along the straight line between the poses: the brush then touches
+every column along its path, and with the B-spline transfer between columns and texels
+(:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even band instead of a
+comb of separate prints. The finer the travel per sub-step, the less the paint left behind a fast
+tip depends on where its surface falls inside a cell (:mod:`paintapp.paint.trail`).
 
 A model builds no more than is read: :class:`ForceNeeds` says whether anyone reads the force
 (without, the solver does no force work) and the torque (without, none is published); with
@@ -36,12 +38,11 @@ from common.tilt import yaw_angle
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import ColumnWindow, cell_texels, square_texel_m
-from paintapp.paint.exchange import ExchangeReport
+from paintapp.paint.exchange import ExchangeReport, plough_weights
 from paintapp.paint.paint_scene import PaintScene
+from solver.grid import Grid
 from solver.simulation import SolverSettings
 
-#: Longest lateral travel of the tip in one paint step, in cells (longer moves are sub-stepped).
-MAX_TRAVEL_CELLS = 2.0
 #: Lift-off: the paint round the tip's last footprint flows back into the hole it leaves, by
 #: sweeps of a conservative neighbour exchange (each column trades this share of the difference
 #: with each neighbour) over the footprint and this many cells around it, until every footprint
@@ -50,10 +51,6 @@ SETTLE_SHARE = 0.2
 SETTLE_REACH_CELLS = 2
 SETTLE_LEVEL = 0.5
 SETTLE_MAX_SWEEPS = 64
-#: Most sub-steps a step's travel adds: a live session that fell behind (its samples far apart)
-#: must not slow down further by sub-stepping ever longer moves (the time step's own split,
-#: ``scene.max_step_s``, is not capped).
-MAX_TRAVEL_SUBSTEPS = 2
 
 
 def brush_width_m(preset: BrushPreset) -> float:
@@ -259,9 +256,12 @@ class PaintModel(ABC):
         travel = float(np.hypot(*move))
         if travel > 1e-3 * self.window.texel_m:
             self.heading = move / travel
-        by_travel = math.ceil(travel / (MAX_TRAVEL_CELLS * self.cell_size_m) - 1e-9)
+        scene = self.scene
+        by_travel = math.ceil(travel / (scene.max_travel_cells * self.cell_size_m) - 1e-9)
         n = max(
-            1, math.ceil(dt_s / self.scene.max_step_s - 1e-9), min(by_travel, MAX_TRAVEL_SUBSTEPS)
+            1,
+            math.ceil(dt_s / scene.max_step_s - 1e-9),
+            min(by_travel, scene.max_travel_substeps),
         )
         result = PaintStep()
         for s in range(n):
@@ -318,6 +318,17 @@ class PaintModel(ABC):
             h,
             math.sqrt(2.0) * lateral,
         )
+
+    def plough(
+        self, grid: Grid, centre_m: np.ndarray, velocity_m_s: np.ndarray, dt_s: float
+    ) -> np.ndarray:
+        """(nx, ny) share of each of ``grid``'s columns' room open to the paint the tip pushes,
+        with the tip at ``centre_m`` after moving at ``velocity_m_s`` for ``dt_s``
+        (:func:`plough_weights`)."""
+        h = grid.cell_size_m
+        centre = (np.asarray(centre_m, dtype=float)[:2] - np.asarray(grid.origin_m)[:2]) / h
+        travel = np.asarray(velocity_m_s, dtype=float)[:2] * dt_s / h
+        return plough_weights((grid.cells[0], grid.cells[1]), centre, travel)
 
     def wet_columns(self) -> np.ndarray:
         """Wet paint per column under the window, (P, nx, ny) metres."""

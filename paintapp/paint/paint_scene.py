@@ -116,6 +116,10 @@ class PaintScene:
             size (a whole number of texels, see :func:`paintapp.paint.columns.cell_texels`).
         margin_cells: the grid re-centres when the tip is closer than this to a lateral side.
         max_step_s: longest solver step, s; a longer gap between stylus samples is split.
+        max_travel_cells: longest lateral travel of the tip in one step, cells; a longer move
+            between samples is split into sub-steps, at most ``max_travel_substeps`` of them.
+        max_travel_substeps: the most sub-steps a move's travel adds (a live session that falls
+            behind must not slow itself down further by sub-stepping ever longer moves).
         density_kg_m3, viscosity_pa_s: the paint's density and dynamic viscosity.
         air_viscosity_ratio: viscosity of the paint-free cells relative to the paint (3D grid).
         drying_rate_per_s: wetness decay rate, 1/s.
@@ -143,6 +147,8 @@ class PaintScene:
     span: float = 2.0
     margin_cells: int = 10
     max_step_s: float = 0.05
+    max_travel_cells: float = 2.0
+    max_travel_substeps: int = 2
     density_kg_m3: float = 1400.0
     viscosity_pa_s: float = 20.0
     air_viscosity_ratio: float = 1e-3
@@ -210,6 +216,8 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         span=grid.number("span", 2.0, minimum=1.0, maximum=8.0),
         margin_cells=grid.integer("margin_cells", 10, minimum=0),
         max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),
+        max_travel_cells=grid.number("max_travel_cells", 2.0, minimum=0.1, maximum=100.0),
+        max_travel_substeps=grid.integer("max_travel_substeps", 2, minimum=1, maximum=64),
         density_kg_m3=paint.number("density_kg_m3", 1400.0, minimum=1.0, maximum=1e5),
         viscosity_pa_s=paint.number("viscosity_pa_s", 20.0, minimum=1e-4, maximum=1e4),
         air_viscosity_ratio=paint.number("air_viscosity_ratio", 1e-3, minimum=1e-6, maximum=1.0),

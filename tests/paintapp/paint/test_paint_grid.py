@@ -182,5 +182,11 @@ def test_a_bad_scene_names_the_key():
         parse_paint_scene({"paint": {"viscosity_pa_s": -1.0}}, "bad")
     with pytest.raises(InputError, match=r"grid\.typo"):
         parse_paint_scene({"grid": {"typo": 1}}, "bad")
+    with pytest.raises(InputError, match=r"grid\.max_travel_cells"):
+        parse_paint_scene({"grid": {"max_travel_cells": 0.0}}, "bad")
+    with pytest.raises(InputError, match=r"grid\.max_travel_substeps"):
+        parse_paint_scene({"grid": {"max_travel_substeps": 0}}, "bad")
+    travel = parse_paint_scene({"grid": {"max_travel_cells": 0.5, "max_travel_substeps": 8}}, "ok")
+    assert (travel.max_travel_cells, travel.max_travel_substeps) == (0.5, 8)
     with pytest.raises(InputError, match="unknown painting scene"):
         load_paint_scene("no_such_scene")
