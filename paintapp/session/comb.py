@@ -1,0 +1,127 @@
+"""How strongly each stroke of a replay carries its own step: the teeth along the stroke's path.
+
+A tip that jumps from one pose to the next, instead of sweeping, can print one tooth per step
+along a fast stroke: the paint height along the path then repeats with every step between stylus
+samples. The measure, per stroke (the in-contact samples, ``pressure > 0``, between two markers
+of the stroke file, its first and last two steps left out): the paint height is read bilinearly
+at :data:`PHASES` points along each step, on the centre line and 2 texels to either side; the
+*tooth depth* is the peak-to-peak of the mean over the steps at each phase, over the mean height,
+the larger of the three lines. Its *floor* is the same with each step's phases rolled by a random
+amount (the median of :data:`DEALS` deals), which no tooth survives: what the path's own relief
+gives by chance.
+
+``python -m paintapp.session.comb DIR [STROKES]`` prints both for every stroke of ``STROKES``
+(default: the bundled demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.ndimage import map_coordinates
+
+from brushes import StylusSample
+from paintapp.strokes.files import StrokeFile
+from paintapp.strokes.records import Marker
+
+#: Points read along each step; steps left out at each end of a stroke; random deals of the floor.
+PHASES = 20
+END_STEPS = 2
+DEALS = 50
+#: Lateral offsets of the lines read, texels.
+OFFSETS_TEXELS = (-2.0, 0.0, 2.0)
+
+
+@dataclass(frozen=True)
+class StrokePath:
+    """One stroke's in-contact path: its label (the marker before it) and positions (n, 2) m."""
+
+    label: str
+    points_m: np.ndarray
+
+
+def stroke_paths(strokes: StrokeFile) -> list[StrokePath]:
+    """The in-contact paths of ``strokes``, one per marker (at least two samples each)."""
+    paths: list[StrokePath] = []
+    label, points = "stroke 1", []
+    for record in strokes.records:
+        if isinstance(record, Marker):
+            if len(points) >= 2:
+                paths.append(StrokePath(label, np.array(points)))
+            label, points = record.label, []
+        elif isinstance(record, StylusSample) and record.pressure > 0.0:
+            points.append(np.asarray(record.position_m, dtype=float)[:2])
+    if len(points) >= 2:
+        paths.append(StrokePath(label, np.array(points)))
+    return paths
+
+
+def tooth_depth(
+    height_m: np.ndarray, texel_m: float, points_m: np.ndarray, seed: int = 0
+) -> tuple[float, float]:
+    """(tooth depth, floor) of the path ``points_m`` (n, 2) m on the paint height ``height_m``
+    (H, W) of square ``texel_m`` texels (module docstring); NaN for a path too short or bare."""
+    p = np.asarray(points_m, dtype=float) / texel_m - 0.5  # texel index coordinates
+    a, b = p[END_STEPS : -END_STEPS - 1], p[END_STEPS + 1 : -END_STEPS]
+    along = b - a
+    length = np.hypot(along[:, 0], along[:, 1])
+    keep = length > 1e-6
+    if keep.sum() < 4:
+        return float("nan"), float("nan")
+    a, along, length = a[keep], along[keep], length[keep]
+    normal = np.stack([-along[:, 1], along[:, 0]], axis=1) / length[:, None]
+    f = (np.arange(PHASES) + 0.5) / PHASES
+    rng = np.random.default_rng(seed)
+    worst, floor = 0.0, 0.0
+    for off in OFFSETS_TEXELS:
+        xy = a[:, None, :] + f[None, :, None] * along[:, None, :] + off * normal[:, None, :]
+        lines = map_coordinates(height_m, [xy[..., 1], xy[..., 0]], order=1, mode="nearest")
+        mean = float(lines.mean())
+        if mean <= 0.0:
+            continue
+        worst = max(worst, float(np.ptp(lines.mean(axis=0))) / mean)
+        rolled = []
+        for _ in range(DEALS):
+            shift = rng.integers(0, PHASES, size=len(lines))
+            idx = (np.arange(PHASES)[None, :] + shift[:, None]) % PHASES
+            rolled.append(float(np.ptp(np.take_along_axis(lines, idx, 1).mean(axis=0))) / mean)
+        floor = max(floor, float(np.median(rolled)))
+    if worst == 0.0:
+        return float("nan"), float("nan")
+    return worst, floor
+
+
+def main(argv: list[str]) -> int:
+    """Print the tooth depth of each stroke of a stroke file painted in a demo folder."""
+    from common.errors import InputError
+    from paintapp.canvas.exr import read_canvas_exr
+    from paintapp.resources import asset_path
+    from paintapp.strokes.files import read_strokes
+
+    folder = Path(argv[0]) if argv else Path("paintapp-demo")
+    source = Path(argv[1]) if len(argv) > 1 else asset_path("strokes", "demo.jsonl")
+    try:
+        canvas = read_canvas_exr(folder / "canvas.exr")
+        strokes = read_strokes(source)
+    except (OSError, InputError) as err:
+        print(
+            f"comb: error: {err} (expected a paintapp demo folder and its strokes)", file=sys.stderr
+        )
+        return 2
+    texel = canvas.texel_size_m[0]
+    height = canvas.height_m.astype(np.float64)
+    print(f"{'stroke':36s} step (texels)  tooth depth  floor")
+    for path in stroke_paths(strokes):
+        seg = np.hypot(*np.diff(path.points_m, axis=0).T) / texel
+        depth, floor = tooth_depth(height, texel, path.points_m)
+        print(f"{path.label[:36]:36s} {np.median(seg):13.2f}  {depth:11.3f}  {floor:5.3f}")
+    print("tooth depth: peak-to-peak of the paint height over a step's phase (mean over the")
+    print("steps), over the mean height; floor: the same with each step's phase rolled at random")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,41 @@
+"""The tooth-depth measure along a stroke's path."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from paintapp.session.comb import main, stroke_paths, tooth_depth
+from paintapp.strokes.files import read_strokes
+
+TEXEL = 2.5e-4
+
+
+def straight_path(step_texels: float, steps: int = 40) -> np.ndarray:
+    x = (20.0 + step_texels * np.arange(steps + 1)) * TEXEL
+    return np.stack([x, np.full_like(x, 50.5 * TEXEL)], axis=1)
+
+
+def test_teeth_one_per_step_are_measured_and_a_smooth_trail_stays_at_its_floor():
+    path = straight_path(5.0)
+    x = np.arange(260) + 0.5
+    rng = np.random.default_rng(1)
+    relief = 1.0 + 0.05 * rng.standard_normal((100, 260))
+    combed = relief + 0.1 * np.cos(2.0 * np.pi * (x - 20.0) / 5.0)[None, :]
+    depth, floor = tooth_depth(combed * 1e-4, TEXEL, path)
+    assert depth == pytest.approx(0.2, rel=0.15)  # peak-to-peak of a +-0.1 tooth
+    assert floor < 0.25 * depth
+    smooth_depth, smooth_floor = tooth_depth(relief * 1e-4, TEXEL, path)
+    assert smooth_depth < 2.0 * smooth_floor
+    assert np.isnan(tooth_depth(np.zeros((100, 260)), TEXEL, path)[0])  # nothing painted
+    assert np.isnan(tooth_depth(relief, TEXEL, straight_path(5.0, steps=5))[0])  # too short
+
+
+def test_the_demo_strokes_split_at_their_markers(tmp_path, capsys):
+    from paintapp.resources import asset_path
+
+    paths = stroke_paths(read_strokes(asset_path("strokes", "demo.jsonl")))
+    assert [p.label for p in paths][-1] == "clean probe dragged through red"
+    assert len(paths) == 6 and all(len(p.points_m) > 50 for p in paths)
+    assert main([str(tmp_path)]) == 2  # no demo folder: a message, not a traceback
+    assert "expected a paintapp demo folder" in capsys.readouterr().err
