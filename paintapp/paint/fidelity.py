@@ -2,13 +2,13 @@
 
 A preset is a small table of knobs applied on top of a painting scene (:func:`apply_fidelity`):
 
-============  ==========  ========  ==========  ===========  ===========  ===========  ==============
-preset        cell scale  nz scale  pressure    viscosity    advection    max step     travel
-============  ==========  ========  ==========  ===========  ===========  ===========  ==============
-``draft``     0.75        0.75      tol 1e-4    tol 1e-5     linear       the scene's  the scene's
-``standard``  --          --        --          --           --           --           --
-``high``      1.5         1.5       tol 1e-7    tol 1e-8     maccormack   1/120 s      0.5 cell, 16
-============  ==========  ========  ==========  ===========  ===========  ===========  ==============
+============  ==========  ========  ==========  ===========  ===========  ===========
+preset        cell scale  nz scale  pressure    viscosity    advection    max step
+============  ==========  ========  ==========  ===========  ===========  ===========
+``draft``     0.75        0.75      tol 1e-4    tol 1e-5     linear       the scene's
+``standard``  --          --        --          --           --           --
+``high``      1.5         1.5       tol 1e-7    tol 1e-8     maccormack   1/120 s
+============  ==========  ========  ==========  ===========  ===========  ===========
 
 ``standard`` is the scene exactly as written. The cell scale multiplies the grid's cells (the grid
 keeps its span in brush widths, so the cells get smaller: the cell edge is a whole number of canvas
@@ -17,10 +17,7 @@ proportion, the re-centring margin; the 3D grid's height in cells scales by the 
 are relative residuals of the pressure and viscosity PCG solves; ``max_iterations`` caps them
 (draft 200, high 1000; standard keeps the scene's, 400 in the bundled scenes). A
 smaller ``max_step_s`` splits the gap between stylus samples into more solver steps (the demo
-strokes are sampled at 60 Hz: ``high`` takes two steps per sample). The travel column is the
-longest lateral move of the tip per step and the most sub-steps a move may add
-(``max_travel_cells``, ``max_travel_substeps``): a fast tip on small cells leaves a trail with
-less of the comb its jumps print (:mod:`paintapp.paint.trail`).
+strokes are sampled at 60 Hz: ``high`` takes two steps per sample).
 """
 
 from __future__ import annotations
@@ -44,9 +41,6 @@ class Fidelity:
         max_iterations: iteration cap of each solve.
         advection: ``linear`` or ``maccormack`` (the fluid velocity's self-advection).
         max_step_s: longest solver step, s (never longer than the scene's).
-        max_travel_cells: longest lateral travel per step, cells (never longer than the scene's).
-        max_travel_substeps: the most sub-steps a move's travel adds (never fewer than the
-            scene's).
         description: one line for ``--help`` and ``--explain``.
     """
 
@@ -58,8 +52,6 @@ class Fidelity:
     max_iterations: int | None = None
     advection: str | None = None
     max_step_s: float | None = None
-    max_travel_cells: float | None = None
-    max_travel_substeps: int | None = None
     description: str = ""
 
 
@@ -72,9 +64,8 @@ FIDELITIES: dict[str, Fidelity] = {
         ),
         Fidelity("standard", description="the scene as written"),
         Fidelity(
-            "high", 1.5, 1.5, 1e-7, 1e-8, 1000, "maccormack", 1.0 / 120.0, 0.5, 16,
-            description="final render: 1.5x cells, tight tolerances, MacCormack, 120 Hz steps, "
-            "half a cell of travel per step",
+            "high", 1.5, 1.5, 1e-7, 1e-8, 1000, "maccormack", 1.0 / 120.0,
+            description="final render: 1.5x cells, tight tolerances, MacCormack, 120 Hz steps",
         ),
     )
 }  # fmt: skip
@@ -120,21 +111,6 @@ def apply_fidelity(scene: PaintScene, fidelity: str | Fidelity) -> PaintScene:
         advection=f.advection or s.advection,
     )
     step = min(scene.max_step_s, f.max_step_s) if f.max_step_s else scene.max_step_s
-    travel = min(scene.max_travel_cells, f.max_travel_cells or scene.max_travel_cells)
-    substeps = max(scene.max_travel_substeps, f.max_travel_substeps or 1)
-    unchanged = (step, travel, substeps) == (
-        scene.max_step_s,
-        scene.max_travel_cells,
-        scene.max_travel_substeps,
-    )
-    if solver == s and cells == scene.cells and unchanged:
+    if solver == s and cells == scene.cells and step == scene.max_step_s:
         return scene
-    return replace(
-        scene,
-        cells=cells,
-        margin_cells=margin,
-        max_step_s=step,
-        max_travel_cells=travel,
-        max_travel_substeps=substeps,
-        solver=solver,
-    )
+    return replace(scene, cells=cells, margin_cells=margin, max_step_s=step, solver=solver)

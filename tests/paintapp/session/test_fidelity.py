@@ -59,8 +59,6 @@ def test_draft_and_high_change_the_knobs():
     assert high.solver.viscosity_tolerance < scene.solver.viscosity_tolerance
     assert (draft.solver.advection, high.solver.advection) == ("linear", "maccormack")
     assert high.max_step_s < scene.max_step_s == draft.max_step_s
-    assert high.max_travel_cells < scene.max_travel_cells == draft.max_travel_cells
-    assert high.max_travel_substeps > scene.max_travel_substeps == draft.max_travel_substeps
     glaze = apply_fidelity(load_paint_scene("thin_glaze"), "high")
     assert glaze.cells == (72, 72, 1)  # a 2D grid stays one cell deep
 
