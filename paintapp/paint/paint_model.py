@@ -12,8 +12,10 @@ Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels
 ``scene.max_travel_substeps``) along the straight line between the poses: the brush then touches
 every column along its path, and with the B-spline transfer between columns and texels
 (:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even band instead of a
-comb of separate prints. The finer the travel per sub-step, the less the paint left behind a fast
-tip depends on where its surface falls inside a cell (:mod:`paintapp.paint.trail`).
+comb of separate prints. What a fast tip leaves behind still depends on where its surface falls
+inside a cell at the end of each sub-step (:mod:`paintapp.paint.trail`), and not monotonically on
+the travel per sub-step: measured, a fraction of a cell per sub-step (a third or less) smooths
+the trail, a cell and a quarter roughens it.
 
 A model builds no more than is read: :class:`ForceNeeds` says whether anyone reads the force
 (without, the solver does no force work) and the torque (without, none is published); with

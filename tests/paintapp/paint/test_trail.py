@@ -146,7 +146,7 @@ def test_a_fast_rigid_tip_leaves_a_trail_without_a_comb():
 
 
 @pytest.mark.slow
-def test_finer_travel_per_step_smooths_the_trail_further():
+def test_a_third_of_a_cell_of_travel_per_step_smooths_the_trail_further():
     rough, teeth = comb(scrape(5.0 / 16.0, 16))  # a sixteenth of a sample's travel per step
     assert teeth < 0.1
     assert rough < 0.06
