@@ -16,6 +16,7 @@ gives by chance.
 
 from __future__ import annotations
 
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,7 +47,8 @@ class StrokePath:
 def stroke_paths(strokes: StrokeFile) -> list[StrokePath]:
     """The in-contact paths of ``strokes``, one per marker (at least two samples each)."""
     paths: list[StrokePath] = []
-    label, points = "stroke 1", []
+    label = "stroke 1"
+    points: list[np.ndarray] = []
     for record in strokes.records:
         if isinstance(record, Marker):
             if len(points) >= 2:
@@ -124,4 +126,8 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except BrokenPipeError:  # the reader (e.g. head) closed the pipe: nothing more to say
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(1)
