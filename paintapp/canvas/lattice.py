@@ -26,7 +26,6 @@ the painting (:func:`count_holes`): unpainted texels (paint height at most
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 
@@ -153,8 +152,6 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main(sys.argv[1:]))
-    except BrokenPipeError:  # the reader (e.g. head) closed the pipe: nothing more to say
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        sys.exit(1)
+    from common.pipes import run_tool
+
+    run_tool(main, sys.argv[1:])

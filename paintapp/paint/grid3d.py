@@ -150,14 +150,15 @@ class PaintGrid3D(PaintModel):
             sim.step(dt_s)
             clock.mark("solver")
             names = [self.canvas.pigment_names[p] for p in used]
-            report = self._exchange(q, pose, dt_s, reservoir, names)
+            space = self._cell_space(sim.state.label)
+            report = self._exchange(q, pose, dt_s, reservoir, names, space)
             clock.mark("exchange")
             if self.scene.texel_flow:
                 flow = column_face_velocity(q.sum(axis=0), sim.state.comps, sim.state.face_types)
                 if not all(np.isfinite(f).all() for f in flow):
                     raise FloatingPointError("non-finite velocity in the paint grid")
             else:
-                substeps = self._transport(q, dt_s, *before_step)
+                substeps = self._transport(q, dt_s, space, *before_step)
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
@@ -191,11 +192,16 @@ class PaintGrid3D(PaintModel):
         )
 
     def _transport(
-        self, q: np.ndarray, dt_s: float, label_before: np.ndarray, fluid_before: np.ndarray | None
+        self,
+        q: np.ndarray,
+        dt_s: float,
+        space: CellSpace,
+        label_before: np.ndarray,
+        fluid_before: np.ndarray | None,
     ) -> int:
         """Move the paint with the step's velocity through the faces' open parts, then lay what
         piled up against the tip in the room it vacated (:mod:`paintapp.paint.trail`); returns
-        the transport's sub-steps."""
+        the transport's sub-steps. ``space`` holds this step's cell capacities."""
         assert self.sim is not None
         sim = self.sim
         label, cut = sim.state.label, sim.cut
@@ -204,7 +210,7 @@ class PaintGrid3D(PaintModel):
         vel, types = paint_faces(sim.state.comps, sim.state.face_types, label, open_frac, fluid)
         substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s)
         share = vacated_share(label_before, label, fluid_before, fluid)
-        lay_trail(q, label, share, self._cell_space(label))
+        lay_trail(q, label, share, space)
         return substeps
 
     def _cell_space(self, label: np.ndarray) -> CellSpace:
@@ -224,12 +230,12 @@ class PaintGrid3D(PaintModel):
         dt_s: float,
         reservoir: PaintReservoir,
         names: list[str],
+        space: CellSpace,
     ) -> ExchangeReport:
         assert self.sim is not None and self.probe is not None
         label = self.sim.state.label
         if not (label >= 0).any():
             return ExchangeReport()
-        space = self._cell_space(label)
         speed = float(np.hypot(*self.probe.velocity_m_s[:2]))
         offer = deposit_volume(reservoir, speed, pose.pressure, dt_s, self.scene.deposit_length_m)
         return exchange_with_brush(
