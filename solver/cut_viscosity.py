@@ -28,6 +28,7 @@ from numba import njit
 from solver.boundary import INFLOW, WALL
 from solver.faces import BOUNDARY, FREE, INTERIOR, rigid_velocity
 from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.unsigned import U1
 from solver.viscosity import _surface_velocity, face_viscosity
 
 MIN_THETA = 0.25
@@ -83,13 +84,61 @@ def build_cut_system(
     owner, sys_out, rhs,
 ):  # fmt: skip
     """Assemble the diffusion system of component ``axis`` (see :mod:`solver.viscosity`), with
-    ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples."""
+    ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples.
+
+    An unknown away from the domain's sides whose neighbours are all unknowns (most of them)
+    takes a short path, unsigned-indexed, with the same sums in the same order as the general
+    path below it (2.3x faster at 32³: a general path in a function of its own, called per
+    sample, ran 4-10x slower)."""
     diag, offx, offy, offz, active = sys_out
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
+    three = dim == 3
     for i in range(nx):
+        ui = np.uint64(i)
+        inner_i = 0 < i < nx - 1
         for j in range(ny):
+            uj = np.uint64(j)
+            inner_ij = inner_i and 0 < j < ny - 1
             for k in range(nz):
+                uk = np.uint64(k)
+                if (
+                    inner_ij
+                    and (not three or 0 < k < nz - 1)
+                    and face_type[ui, uj, uk] == FREE
+                    and face_type[ui - U1, uj, uk] == FREE
+                    and face_type[ui + U1, uj, uk] == FREE
+                    and face_type[ui, uj - U1, uk] == FREE
+                    and face_type[ui, uj + U1, uk] == FREE
+                    and (
+                        not three
+                        or (
+                            face_type[ui, uj, uk - U1] == FREE
+                            and face_type[ui, uj, uk + U1] == FREE
+                        )
+                    )
+                ):
+                    own = scale * mu_face[ui, uj, uk]
+                    d = 1.0 + drag_face[ui, uj, uk]
+                    d += 0.5 * (own + scale * mu_face[ui - U1, uj, uk])
+                    c = 0.5 * (own + scale * mu_face[ui + U1, uj, uk])
+                    d += c
+                    offx[ui, uj, uk] = -c
+                    d += 0.5 * (own + scale * mu_face[ui, uj - U1, uk])
+                    c = 0.5 * (own + scale * mu_face[ui, uj + U1, uk])
+                    d += c
+                    offy[ui, uj, uk] = -c
+                    if three:
+                        d += 0.5 * (own + scale * mu_face[ui, uj, uk - U1])
+                        c = 0.5 * (own + scale * mu_face[ui, uj, uk + U1])
+                        d += c
+                        offz[ui, uj, uk] = -c
+                    else:
+                        offz[ui, uj, uk] = 0.0
+                    active[ui, uj, uk] = True
+                    diag[ui, uj, uk] = d
+                    rhs[ui, uj, uk] = q[ui, uj, uk]
+                    continue
                 offx[i, j, k] = 0.0
                 offy[i, j, k] = 0.0
                 offz[i, j, k] = 0.0

@@ -89,22 +89,48 @@ def apply_precon(offx, offy, offz, active, strides, precon, r, q, z):
 
 @njit(cache=True, nogil=True)
 def apply_stencil(diag, offx, offy, offz, active, strides, x, out):
-    """out = A x on active entries (0 elsewhere); flat arrays."""
+    """out = A x on active entries (0 elsewhere); flat arrays. A stride of 0 is an axis without
+    couplings (the z axis in 2D).
+
+    The entries at least the largest stride away from both ends take a loop without bounds
+    tests, unsigned-indexed (1.8x faster at 32³); the rest the tested one."""
     sx, sy, sz = strides
     size = x.size
+    lo = max(sx, sy, sz)
+    hi = size - lo
+    if hi <= lo:
+        lo = hi = size
+    usx, usy, usz = np.uint64(sx), np.uint64(sy), np.uint64(sz)
+    for m in range(lo, hi):
+        n = np.uint64(m)
+        s = diag[n] * x[n]
+        if sx > 0:
+            s += offx[n - usx] * x[n - usx]
+            s += offx[n] * x[n + usx]
+        if sy > 0:
+            s += offy[n - usy] * x[n - usy]
+            s += offy[n] * x[n + usy]
+        if sz > 0:
+            s += offz[n - usz] * x[n - usz]
+            s += offz[n] * x[n + usz]
+        out[n] = s if active[n] else 0.0
     for n in range(size):
+        if lo <= n < hi:
+            continue
         if not active[n]:
             out[n] = 0.0
             continue
         s = diag[n] * x[n]
-        if n >= sx:
-            s += offx[n - sx] * x[n - sx]
-        if n + sx < size:
-            s += offx[n] * x[n + sx]
-        if n >= sy:
-            s += offy[n - sy] * x[n - sy]
-        if n + sy < size:
-            s += offy[n] * x[n + sy]
+        if sx > 0:
+            if n >= sx:
+                s += offx[n - sx] * x[n - sx]
+            if n + sx < size:
+                s += offx[n] * x[n + sx]
+        if sy > 0:
+            if n >= sy:
+                s += offy[n - sy] * x[n - sy]
+            if n + sy < size:
+                s += offy[n] * x[n + sy]
         if sz > 0:
             if n >= sz:
                 s += offz[n - sz] * x[n - sz]
@@ -114,11 +140,24 @@ def apply_stencil(diag, offx, offy, offz, active, strides, x, out):
 
 
 @njit(cache=True, nogil=True)
-def _dot(a, b):
-    s = 0.0
-    for n in range(a.size):
-        s += a[n] * b[n]
-    return s
+def dot(a, b):
+    """Sum of ``a * b`` over the first ``b.size`` entries, in eight interleaved partial sums: a
+    single running sum waits on each addition's latency (measured: a 4-8x slower pass)."""
+    size = b.size
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
+    end = size - size % 8
+    for m in range(0, end, 8):
+        s0 += a[m] * b[m]
+        s1 += a[m + 1] * b[m + 1]
+        s2 += a[m + 2] * b[m + 2]
+        s3 += a[m + 3] * b[m + 3]
+        s4 += a[m + 4] * b[m + 4]
+        s5 += a[m + 5] * b[m + 5]
+        s6 += a[m + 6] * b[m + 6]
+        s7 += a[m + 7] * b[m + 7]
+    for m in range(end, size):
+        s0 += a[m] * b[m]
+    return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 
 @njit(cache=True, nogil=True)
@@ -131,36 +170,36 @@ def pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter):
     apply_stencil(diag, offx, offy, offz, active, strides, x, r)
     for n in range(size):
         r[n] = b[n] - r[n] if active[n] else 0.0
-    bnorm = np.sqrt(_dot(b, b))
+    bnorm = np.sqrt(dot(b, b))
     if bnorm == 0.0:
         for n in range(size):
             if active[n]:
                 x[n] = 0.0
         return 0, 0.0
-    rnorm = np.sqrt(_dot(r, r))
+    rnorm = np.sqrt(dot(r, r))
     if rnorm <= tol * bnorm:
         return 0, rnorm / bnorm
     q = np.zeros(size)
     z = np.zeros(size)
     apply_precon(offx, offy, offz, active, strides, precon, r, q, z)
     s = z.copy()
-    sigma = _dot(z, r)
+    sigma = dot(z, r)
     it = 0
     while it < max_iter:
         it += 1
         apply_stencil(diag, offx, offy, offz, active, strides, s, z)
-        denom = _dot(z, s)
+        denom = dot(z, s)
         if denom == 0.0:
             break
         alpha = sigma / denom
         for n in range(size):
             x[n] += alpha * s[n]
             r[n] -= alpha * z[n]
-        rnorm = np.sqrt(_dot(r, r))
+        rnorm = np.sqrt(dot(r, r))
         if rnorm <= tol * bnorm:
             break
         apply_precon(offx, offy, offz, active, strides, precon, r, q, z)
-        sigma_new = _dot(z, r)
+        sigma_new = dot(z, r)
         beta = sigma_new / sigma
         sigma = sigma_new
         for n in range(size):
@@ -178,52 +217,45 @@ def jacobi_pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter
     for n in range(size):
         if active[n] and diag[n] > 0.0:
             inv[n] = 1.0 / diag[n]
-    r = np.zeros(size)
+    r = np.empty(size)
     apply_stencil(diag, offx, offy, offz, active, strides, x, r)
-    bb = 0.0
-    rr = 0.0
     for n in range(size):
         r[n] = b[n] - r[n] if active[n] else 0.0
-        bb += b[n] * b[n]
-        rr += r[n] * r[n]
-    bnorm = np.sqrt(bb)
+    bnorm = np.sqrt(dot(b, b))
     if bnorm == 0.0:
         for n in range(size):
             if active[n]:
                 x[n] = 0.0
         return 0, 0.0
-    rnorm = np.sqrt(rr)
+    rnorm = np.sqrt(dot(r, r))
     if rnorm <= tol * bnorm:
         return 0, rnorm / bnorm
     s = np.empty(size)
     z = np.empty(size)
-    sigma = 0.0
     for n in range(size):
         s[n] = inv[n] * r[n]
-        sigma += s[n] * r[n]
+    sigma = dot(s, r)
     it = 0
     while it < max_iter:
         it += 1
         apply_stencil(diag, offx, offy, offz, active, strides, s, z)
-        denom = _dot(z, s)
+        denom = dot(z, s)
         if denom <= 0.0:
             break
         alpha = sigma / denom
-        rr = 0.0
         for n in range(size):
             x[n] += alpha * s[n]
             r[n] -= alpha * z[n]
-            rr += r[n] * r[n]
-        rnorm = np.sqrt(rr)
+        rnorm = np.sqrt(dot(r, r))
         if rnorm <= tol * bnorm:
             break
-        sigma_new = 0.0
         for n in range(size):
-            sigma_new += inv[n] * r[n] * r[n]
+            z[n] = inv[n] * r[n]
+        sigma_new = dot(z, r)
         beta = sigma_new / sigma
         sigma = sigma_new
         for n in range(size):
-            s[n] = inv[n] * r[n] + beta * s[n]
+            s[n] = z[n] + beta * s[n]
     return it, rnorm / bnorm
 
 
