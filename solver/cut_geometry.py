@@ -270,15 +270,16 @@ class CutGeometry:
 
 
 def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray, np.ndarray]:
-    """Cell index window ``lo <= idx < hi`` (int64 (3,)) covering the probe plus ``margin``."""
+    """Cell index window ``lo <= idx < hi`` (int64 (3,)) covering the probe plus ``margin``
+    cells: its world box (:meth:`~solver.probes.Probe.world_box`), every cell outside the window
+    at least ``margin`` cells from the probe."""
     h = grid.cell_size_m
     lo = np.zeros(3, dtype=np.int64)
     hi = np.array(grid.cells, dtype=np.int64)
-    r = probe.shape.bounding_radius_m
+    lower, upper = probe.world_box()
     for a in range(grid.dim):
-        c = (probe.centre_m[a] - grid.origin_m[a]) / h
-        lo[a] = int(np.clip(np.floor(c - r / h) - margin, 0, grid.cells[a]))
-        hi[a] = int(np.clip(np.ceil(c + r / h) + margin, 0, grid.cells[a]))
+        lo[a] = int(np.clip(np.floor((lower[a] - grid.origin_m[a]) / h) - margin, 0, grid.cells[a]))
+        hi[a] = int(np.clip(np.ceil((upper[a] - grid.origin_m[a]) / h) + margin, 0, grid.cells[a]))
     return lo, hi
 
 

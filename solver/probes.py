@@ -178,6 +178,21 @@ class Probe:
     def rotation_matrix(self) -> np.ndarray:
         return rotation.rotation_matrix(self.dim, self.orientation)
 
+    def world_box(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper corners (dim,) of a world box holding the probe, metres: from the
+        shape's support function ``support(direction)`` (``max over the shape of direction . x``,
+        body frame) where it has one, the tight box in any pose; else the bounding sphere's. A
+        brush tip's bounding sphere is its whole length wide: on the painting grid the tight box
+        holds a quarter of the sphere's cells."""
+        support = getattr(self.shape, "support", None)
+        if support is None:
+            r = self.shape.bounding_radius_m
+            return self.centre_m - r, self.centre_m + r
+        rot = self.rotation_matrix()
+        upper = np.array([float(support(rot[a])) for a in range(self.dim)])
+        lower = np.array([-float(support(-rot[a])) for a in range(self.dim)])
+        return self.centre_m + lower, self.centre_m + upper
+
     def reference_point(self) -> np.ndarray:
         """Torque reference point in the world frame, shape (dim,)."""
         return self.centre_m + self.rotation_matrix() @ np.asarray(self.reference_m)

@@ -2,7 +2,9 @@
 
 Any object with ``sdf(points) -> distances`` (points shape (..., d) in metres, body frame,
 negative inside) and a ``bounding_radius_m`` attribute can be a probe shape; the brushes layer
-provides its own tips through the same protocol.
+provides its own tips through the same protocol. A shape may also give ``support(direction)``,
+``max over the shape of direction . x`` (body frame): the cut geometry then samples only the
+probe's tight world box, not its bounding sphere's.
 """
 
 from __future__ import annotations
@@ -69,6 +71,10 @@ class Box:
             inside = np.maximum(inside, q[..., a])
         return outside + np.minimum(inside, 0.0)
 
+    def support(self, direction: np.ndarray) -> float:
+        """``max over the box of direction . x``."""
+        return 0.5 * float(np.abs(np.asarray(direction, dtype=float)) @ np.asarray(self.size_m))
+
     def cross_section_m(self, dim: int) -> float:
         """Frontal extent across x (2D: height) or frontal area across x (3D)."""
         return float(self.size_m[1]) if dim == 2 else float(self.size_m[1] * self.size_m[2])
@@ -88,8 +94,15 @@ class FilletedBox:
         return 0.5 * float(np.linalg.norm(self.size_m))
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
-        core = Box(tuple(float(s) - 2.0 * self.radius_m for s in self.size_m))
-        return core.sdf(points) - self.radius_m
+        return self._core().sdf(points) - self.radius_m
+
+    def support(self, direction: np.ndarray) -> float:
+        """``max over the shape of direction . x``."""
+        d = np.asarray(direction, dtype=float)
+        return self._core().support(d) + self.radius_m * float(np.linalg.norm(d))
+
+    def _core(self) -> Box:
+        return Box(tuple(float(s) - 2.0 * self.radius_m for s in self.size_m))
 
     def cross_section_m(self, dim: int) -> float:
         return Box(self.size_m).cross_section_m(dim)

@@ -180,3 +180,50 @@ def test_to_probe_voxelizes_like_our_voxelizer(dim):
     ours = motion.voxelize(origin, h, cells)
     assert ours.any()
     assert np.array_equal(solver_mask.reshape(cells), ours)
+
+
+class _SphereBound:
+    """A tip without its support function: the cut geometry falls back to its bounding sphere."""
+
+    def __init__(self, tip):
+        self._tip = tip
+        self.bounding_radius_m = tip.bounding_radius_m
+
+    def sdf(self, points):
+        return self._tip.sdf(points)
+
+
+@pytest.mark.parametrize(
+    "tip",
+    [
+        RoundCone(0.3 * MM, 2.0 * MM, 12.0 * MM),
+        Splayed(RoundCone(0.3 * MM, 2.0 * MM, 12.0 * MM), 1.4),
+        RoundedBox(6.0 * MM, 1.5 * MM, 10.0 * MM, 0.5 * MM),
+    ],
+)
+def test_cut_geometry_in_the_tight_window_equals_the_bounding_spheres(tip):
+    """The cut geometry samples a tip only inside its tight world box (from its support
+    function) plus a margin: its face fractions, fluid fractions and owners are those sampled
+    over the whole bounding sphere, tilted or not."""
+    from solver.cut_geometry import CutGeometry
+    from solver.grid import Grid
+    from solver.probes import Probe
+
+    grid = Grid(3, (40, 40, 24), 0.4 * MM, (-8.0 * MM, -8.0 * MM, -1.0 * MM))
+    for axis, angle in (((1.0, 0.0, 0.0), 0.0), ((1.0, 1.0, 0.0), 0.6), ((0.0, 1.0, 0.2), 1.1)):
+        orientation = quat_from_axis_angle(np.asarray(axis) / np.linalg.norm(axis), angle)
+        geos = []
+        for shape in (tip, _SphereBound(tip)):
+            geo = CutGeometry.empty(grid)
+            probe = Probe("tip", shape, 3, np.array([0.1, -0.2, -0.5]) * MM, orientation)
+            geo.update(grid, [probe])
+            geos.append(geo)
+        tight, sphere = geos
+        (lo_t, hi_t), (lo_s, hi_s) = tight.windows[0], sphere.windows[0]
+        assert np.prod(hi_t - lo_t) < np.prod(hi_s - lo_s)  # the tight window is smaller
+        for a in range(3):
+            assert np.array_equal(tight.open_frac[a], sphere.open_frac[a])
+            assert np.array_equal(tight.owner_face[a], sphere.owner_face[a])
+        assert np.array_equal(tight.fluid_frac, sphere.fluid_frac)
+        assert np.array_equal(tight.owner_cell, sphere.owner_cell)
+        assert (tight.open_frac[2] < 1.0).any()  # the tip is in the grid

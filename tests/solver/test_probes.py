@@ -111,3 +111,32 @@ def test_cubic_path_keeps_the_velocity_continuous_across_keyframes(dim):
         assert np.abs(np.diff(v, axis=0)).max() < 0.02 * 1.05  # at most v * 0.1 rad per step
         jumps[kind] = float(np.abs(np.diff(v, n=2, axis=0)).max())  # a kink in the velocity
     assert jumps["cubic"] < 0.01 * jumps["linear"]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_world_box_of_a_box_is_its_rotated_corners_extent(dim):
+    """A box's support function gives the tight world box: the extent of its rotated corners,
+    which the bounding sphere's box exceeds."""
+    rng = np.random.default_rng(3)
+    size = (0.3, 0.1, 0.05)[:dim]
+    for _ in range(20):
+        if dim == 2:
+            pose = float(rng.uniform(-np.pi, np.pi))
+        else:
+            pose = rotation.normalise(rng.standard_normal(4))
+        centre = rng.uniform(-1.0, 1.0, dim)
+        probe = Probe("b", Box(size), dim, centre, pose)
+        lower, upper = probe.world_box()
+        signs = np.array(np.meshgrid(*([(-0.5, 0.5)] * dim), indexing="ij")).reshape(dim, -1).T
+        corners = centre + (signs * size) @ probe.rotation_matrix().T
+        assert np.allclose(lower, corners.min(axis=0), atol=1e-12)
+        assert np.allclose(upper, corners.max(axis=0), atol=1e-12)
+    radius = Box(size).bounding_radius_m
+    assert np.all(upper - lower < 2.0 * radius)
+
+
+def test_world_box_without_a_support_function_is_the_bounding_spheres():
+    probe = Probe("c", Ball(0.2), 3, np.array([0.1, 0.2, 0.3]))
+    lower, upper = probe.world_box()
+    assert np.allclose(lower, [-0.1, 0.0, 0.1])
+    assert np.allclose(upper, [0.3, 0.4, 0.5])
