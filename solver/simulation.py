@@ -202,7 +202,7 @@ class Simulation:
         phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
         if system is not None and self.cut is not None:
             report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
-                                 self.cut.owner_face, np.stack(self._motion[:3]),
+                                 self.cut.owner_face, self._rigid,
                                  g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
                                  cfg.max_iterations, self._pressure_solve)  # fmt: skip
         else:
@@ -251,8 +251,7 @@ class Simulation:
         if not np.any(self.viscosity_pa_s > 0.0) and self.drag_per_s is None:
             return ()  # inviscid: no viscosity solve at all
         g, st, cfg = self.grid, self.state, self.settings
-        centre, vel, omega, _ = self._motion
-        rigid = np.stack([centre, vel, omega])
+        rigid = self._rigid
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
         coupling = 2 * g.dim * float(self.viscosity_pa_s.max()) * dt_s / (rho * h * h)
         solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
@@ -358,6 +357,7 @@ class Simulation:
     # -- geometry and boundaries -------------------------------------------------------------
     def _rasterize(self) -> None:
         self._motion = self.rigid_motion()
+        self._rigid = np.stack(self._motion[:3])  # (3, n, 3): centre, velocity, angular velocity
         label = self.state.label
         label[:] = FLUID
         label[self.static_solid] = STATIC_SOLID
@@ -392,7 +392,7 @@ class Simulation:
         samples inside cut-cell probes (see :func:`solver.cut_viscosity.mark_probe_samples`)."""
         g, st = self.grid, self.state
         centre, vel, omega, _ = self._motion
-        rigid = np.stack([centre, vel, omega])
+        rigid = self._rigid
         for a in range(g.dim):
             open_lo = bool(self._kinds[a, 0] == 3)
             open_hi = bool(self._kinds[a, 1] == 3)
@@ -465,7 +465,6 @@ class Simulation:
             return
         lo = np.min([w[0] for w in cut.windows], axis=0)
         hi = np.max([w[1] for w in cut.windows], axis=0)
-        centre, vel, omega, _ = self._motion
         active = self._was_active if self.settings.incremental_pressure else None
         if active is None or active.shape != g.cells:
             active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
@@ -473,7 +472,7 @@ class Simulation:
         wx, wy, wz = cut.open_frac
         cut_surface_force(wx, wy, wz, cut.phi_node, cut.owner_node, active, lo, hi, u, v, w,
                           st.pressure, self.viscosity_pa_s, g.cell_size_m, g.dim,
-                          np.stack([centre, vel, omega]), ref, fp, fv, tq)  # fmt: skip
+                          self._rigid, ref, fp, fv, tq)  # fmt: skip
 
     def _momentum_balance(
         self, index: int, ref: np.ndarray
