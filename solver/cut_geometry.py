@@ -293,13 +293,10 @@ def _lattice_sdf(
     same corners the open fractions come from (exact for a linear SDF)."""
     d = len(axes)
     rot = probe.rotation_matrix()
-    if d == 2:
-        grids = [np.stack(np.meshgrid(*(axes[b][sel[b]] for b in range(d)), indexing="ij"), -1)
-                 for sel, _, _ in targets]  # fmt: skip
-        pts = np.concatenate([g.reshape(-1, d) for g in grids])
+    if d == 2:  # the sub-lattices tile the lattice: one call over all of it, then each's share
+        pts = np.stack(np.meshgrid(*axes, indexing="ij"), -1)
         sdf = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
-        parts = np.split(sdf, np.cumsum([g[..., 0].size for g in grids])[:-1])
-        return [f.reshape((*g.shape[:-1], 1)) for f, g in zip(parts, grids, strict=True)]
+        return [sdf[sel[0], sel[1], None] for sel, _, _ in targets]
     pts = np.stack(np.meshgrid(*(ax[0::2] for ax in axes), indexing="ij"), axis=-1)
     node = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
     out = [node]

@@ -21,6 +21,7 @@ from numba import njit
 from solver.boundary import OUTFLOW
 from solver.faces import FLUID, rigid_velocity
 from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.unsigned import U0, U1
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -66,9 +67,45 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
     nx, ny, nz = static.shape
     shape = (nx, ny, nz)
     ws = (wx, wy, wz)
+    three = dim == 3
     for i in range(nx):
+        ui = np.uint64(i)
+        inner_i = 0 < i < nx - 1
         for j in range(ny):
+            uj = np.uint64(j)
+            inner_ij = inner_i and 0 < j < ny - 1
             for k in range(nz):
+                uk = np.uint64(k)
+                if (  # a fluid cell among fluid cells: the same sums on a short unsigned path
+                    inner_ij
+                    and (not three or 0 < k < nz - 1)
+                    and static[ui, uj, uk] == FLUID
+                    and static[ui - U1, uj, uk] == FLUID
+                    and static[ui + U1, uj, uk] == FLUID
+                    and static[ui, uj - U1, uk] == FLUID
+                    and static[ui, uj + U1, uk] == FLUID
+                    and (not three or (static[ui, uj, uk - U1] == FLUID
+                                       and static[ui, uj, uk + U1] == FLUID))
+                ):  # fmt: skip
+                    d = 0.0
+                    d += wx[ui, uj, uk]
+                    w = wx[ui + U1, uj, uk]
+                    d += w
+                    offx[ui, uj, uk] = -w if w > 0.0 else 0.0
+                    d += wy[ui, uj, uk]
+                    w = wy[ui, uj + U1, uk]
+                    d += w
+                    offy[ui, uj, uk] = -w if w > 0.0 else 0.0
+                    if three:
+                        d += wz[ui, uj, uk]
+                        w = wz[ui, uj, uk + U1]
+                        d += w
+                        offz[ui, uj, uk] = -w if w > 0.0 else 0.0
+                    else:
+                        offz[ui, uj, uk] = 0.0
+                    active[ui, uj, uk] = d > 0.0
+                    diag[ui, uj, uk] = d
+                    continue
                 offx[i, j, k] = 0.0
                 offy[i, j, k] = 0.0
                 offz[i, j, k] = 0.0
@@ -105,11 +142,32 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
     ws = (wx, wy, wz)
     owners = (ox, oy, oz)
     centre, vel, omega = rigid[0], rigid[1], rigid[2]
+    three = dim == 3
     for i in range(nx):
+        ui = np.uint64(i)
         for j in range(ny):
+            uj = np.uint64(j)
             for k in range(nz):
-                if not active[i, j, k]:
-                    out[i, j, k] = 0.0
+                uk = np.uint64(k)
+                if not active[ui, uj, uk]:
+                    out[ui, uj, uk] = 0.0
+                    continue
+                if (  # no face with a solid part: the plain sum, unsigned-indexed
+                    ox[ui, uj, uk] < 0
+                    and ox[ui + U1, uj, uk] < 0
+                    and oy[ui, uj, uk] < 0
+                    and oy[ui, uj + U1, uk] < 0
+                    and (not three or (oz[ui, uj, uk] < 0 and oz[ui, uj, uk + U1] < 0))
+                ):
+                    total = 0.0
+                    total += -u[ui, uj, uk]
+                    total += u[ui + U1, uj, uk]
+                    total += -v[ui, uj, uk]
+                    total += v[ui, uj + U1, uk]
+                    if three:
+                        total += -w[ui, uj, uk]
+                        total += w[ui, uj, uk + U1]
+                    out[ui, uj, uk] = total
                     continue
                 total = 0.0
                 for b in range(dim):
@@ -130,24 +188,43 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
 
 @njit(cache=True, nogil=True)
 def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
-    """Correct the faces of component ``axis`` with ``W > 0`` by ``-(phi_hi - phi_lo) / h``."""
+    """Correct the faces of component ``axis`` with ``W > 0`` by ``-(phi_hi - phi_lo) / h``.
+
+    Faces between two cells take an unsigned-indexed loop without side tests; the two planes
+    of faces on the domain's sides the general one (an outflow side is a zero-pressure
+    ghost)."""
     nx, ny, nz = q.shape
     n_axis = static.shape[axis]
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if wf[i, j, k] <= 0.0:
-                    continue
-                idx = i if axis == 0 else (j if axis == 1 else k)
-                li, lj, lk = i - (axis == 0), j - (axis == 1), k - (axis == 2)
-                lo_in, hi_in = idx > 0, idx < n_axis
-                lo_ok = active[li, lj, lk] if lo_in else kinds[axis, 0] == OUTFLOW
-                hi_ok = active[i, j, k] if hi_in else kinds[axis, 1] == OUTFLOW
-                if not (lo_ok and hi_ok):
-                    continue
-                hi = phi[i, j, k] if hi_in else 0.0
-                lo = phi[li, lj, lk] if lo_in else 0.0
-                q[i, j, k] -= (hi - lo) / h
+    di = U1 if axis == 0 else U0
+    dj = U1 if axis == 1 else U0
+    dk = U1 if axis == 2 else U0
+    for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
+        ui = np.uint64(i)
+        for j in range(1 if axis == 1 else 0, ny - 1 if axis == 1 else ny):
+            uj = np.uint64(j)
+            for k in range(1 if axis == 2 else 0, nz - 1 if axis == 2 else nz):
+                uk = np.uint64(k)
+                if (
+                    wf[ui, uj, uk] > 0.0
+                    and active[ui, uj, uk]
+                    and active[ui - di, uj - dj, uk - dk]
+                ):
+                    q[ui, uj, uk] -= (phi[ui, uj, uk] - phi[ui - di, uj - dj, uk - dk]) / h
+    for side in (0, n_axis):
+        for i in range(side, side + 1) if axis == 0 else range(nx):
+            for j in range(side, side + 1) if axis == 1 else range(ny):
+                for k in range(side, side + 1) if axis == 2 else range(nz):
+                    if wf[i, j, k] <= 0.0:
+                        continue
+                    li, lj, lk = i - (axis == 0), j - (axis == 1), k - (axis == 2)
+                    lo_in, hi_in = side > 0, side < n_axis
+                    lo_ok = active[li, lj, lk] if lo_in else kinds[axis, 0] == OUTFLOW
+                    hi_ok = active[i, j, k] if hi_in else kinds[axis, 1] == OUTFLOW
+                    if not (lo_ok and hi_ok):
+                        continue
+                    hi = phi[i, j, k] if hi_in else 0.0
+                    lo = phi[li, lj, lk] if lo_in else 0.0
+                    q[i, j, k] -= (hi - lo) / h
 
 
 @njit(cache=True, nogil=True)
@@ -181,10 +258,15 @@ def fill_fresh_pressure(p, was_active, active, dim):
 
 
 def pressure_system(
-    static: np.ndarray, dim: int, kinds: np.ndarray, open_frac: list[np.ndarray]
+    static: np.ndarray,
+    dim: int,
+    kinds: np.ndarray,
+    open_frac: list[np.ndarray],
+    out: StencilSystem | None = None,
 ) -> StencilSystem:
-    """The face-weighted Poisson matrix on the grid of ``static``."""
-    system = StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
+    """The face-weighted Poisson matrix on the grid of ``static``, in ``out`` when given (of
+    ``static``'s shape; every entry is rewritten)."""
+    system = out if out is not None else StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
     wx, wy, wz = open_frac
     ox, oy, oz = system.off
     build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
@@ -215,7 +297,8 @@ def project_cut(
     wx, wy, wz = open_frac
     ox, oy, oz = owner_face
     cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux)
-    rhs = -h * flux
+    rhs = flux
+    rhs *= -h
     if not np.any(kinds[:dim] == OUTFLOW):
         n = int(system.active.sum())
         if n:

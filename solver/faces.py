@@ -12,7 +12,10 @@ covers them. A face of velocity component ``a`` is
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
+
+from solver.unsigned import U0, U1
 
 FLUID = -1
 STATIC_SOLID = -2
@@ -51,10 +54,23 @@ def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_ty
     """
     nx, ny, nz = face_type.shape
     n_axis = label.shape[axis]
+    di = U1 if axis == 0 else U0
+    dj = U1 if axis == 1 else U0
+    dk = U1 if axis == 2 else U0
     for i in range(nx):
+        ui = np.uint64(i)
         for j in range(ny):
+            uj = np.uint64(j)
             for k in range(nz):
+                uk = np.uint64(k)
                 idx = i if axis == 0 else (j if axis == 1 else k)
+                if (  # between two fluid cells (most faces): unsigned, no side tests
+                    0 < idx < n_axis
+                    and label[ui, uj, uk] == FLUID
+                    and label[ui - di, uj - dj, uk - dk] == FLUID
+                ):
+                    face_type[ui, uj, uk] = FREE
+                    continue
                 lo_in = idx > 0
                 hi_in = idx < n_axis
                 lo_lab = FLUID

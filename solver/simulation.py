@@ -25,13 +25,13 @@ from solver.cut_projection import (
     project_cut,
     subtract_cut_gradient,
 )
-from solver.cut_viscosity import diffuse_cut, mark_probe_samples
+from solver.cut_viscosity import ViscosityWork, diffuse_cut, mark_probe_samples
 from solver.faces import FLUID, STATIC_SOLID, classify_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.multigrid import DIFFUSION_SCALES, Multigrid
-from solver.pcg import LinearSolve, SolveReport, solve, solve_jacobi
+from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve, solve_jacobi
 from solver.probes import Probe
 from solver.projection import divergence_sum, project, subtract_gradient
 from solver.solver_settings import (
@@ -151,6 +151,8 @@ class Simulation:
         self.state = FluidState.at_rest(grid)
         self.time_s = 0.0
         self.forces: dict[str, ProbeForce] = {}
+        self._viscosity_work: list[ViscosityWork] = []
+        self._pressure_work: StencilSystem | None = None
         self._kinds = self.boundary.kinds()
         self._side_vel = self.boundary.velocities()
         self._last_dt = 0.0
@@ -190,7 +192,10 @@ class Simulation:
         rho = self.fluid.density_kg_m3
         system = None
         if self.cut is not None:
-            system = pressure_system(self._static_label, g.dim, self._kinds, self.cut.open_frac)
+            if self._pressure_work is None:
+                self._pressure_work = StencilSystem.empty(g.cells, g.dim)
+            system = pressure_system(self._static_label, g.dim, self._kinds, self.cut.open_frac,
+                                     self._pressure_work)  # fmt: skip
         if cfg.incremental_pressure:
             active = system.active if system is not None else st.label == FLUID
             self._old_pressure_gradient(active, dt_s)
@@ -257,6 +262,9 @@ class Simulation:
         solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
         if self.cut is not None:
             cut = self.cut
+            if not self._viscosity_work:
+                self._viscosity_work = [ViscosityWork.for_shape(g.face_shape(a), g.dim)
+                                        for a in range(g.dim)]  # fmt: skip
             return tuple(
                 diffuse_cut(
                     st.comps[a],
@@ -277,6 +285,7 @@ class Simulation:
                     cfg.max_iterations,
                     self.drag_per_s,
                     solves[a],
+                    self._viscosity_work[a],
                 )
                 for a in range(g.dim)
             )
