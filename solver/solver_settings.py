@@ -34,7 +34,10 @@ class SolverSettings:
     ``viscosity_preconditioner``: the same two, ``jacobi`` (the diagonal), or ``auto``: per step,
     the diagonal while the system is strongly diagonally dominant (``2 dim nu_max dt / h^2 <=
     JACOBI_LIMIT``), multigrid above (measured: as fast as MIC(0) for thick paint, 1.7x faster
-    at ``2 dim nu dt / h^2 ~ 10``). The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
+    at ``2 dim nu dt / h^2 ~ 10``). The limit is where the two cost the same on the PhiFlow
+    comparison scene (``benchmarks/bench_solver.py --peer``'s, 64² to 128², interleaved runs;
+    per step, by ``2 dim nu dt / h^2``): the diagonal 0.53 against 0.72 ms at 2.7, 1.64 / 1.75 ms at 6.1, 2.43 /
+    2.48 ms at 8.4, 3.72 / 3.40 ms at 10.9. The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
     ``paintapp bench``)."""
 
     advection: str = "linear"
@@ -66,7 +69,7 @@ class SolverSettings:
         return self.pressure_scheme == "incremental"
 
 
-JACOBI_LIMIT = 2.0
+JACOBI_LIMIT = 6.0
 BOUNDARY_METHODS = ("cutcell", "staircase")
 MAX_CORNER_RADIUS_CELLS = 4.0
 PRESSURE_SCHEMES = ("auto", "incremental", "chorin")
