@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from solver.faces import FREE
+from solver.unsigned import U1
 
 #: Hard cap on sub-steps per call (a velocity this violent means something upstream is wrong).
 MAX_SUBSTEPS = 1000
@@ -65,35 +66,44 @@ def outflow_fraction(u, v, w, tu, tv, tw, dim, rate):
     return worst
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _face_flux(q, out, n, a0, a1, a2, b0, b1, b2, vel, rate):
-    """Move ``rate * vel * q_upwind`` of every field from cell a to cell b (vel > 0: a -> b)."""
-    for p in range(n):
-        if vel > 0.0:
-            f = rate * vel * q[p, a0, a1, a2]
-        else:
-            f = rate * vel * q[p, b0, b1, b2]
-        out[p, a0, a1, a2] -= f
-        out[p, b0, b1, b2] += f
-
-
 @njit(cache=True, nogil=True)
 def upwind_substep(q, u, v, w, tu, tv, tw, dim, rate, out):
     """One explicit upwind update of fields ``q`` (n, nx, ny, nz) into ``out`` (same shape).
 
-    ``rate`` is ``dt / h`` for this sub-step; ``out`` must not alias ``q``.
-    """
+    ``rate`` is ``dt / h`` for this sub-step; ``out`` must not alias ``q``. Each face moves
+    ``rate * vel * q_upwind`` from the cell on its low side to the one on its high side (vel > 0)
+    or back; the upwind choice is a max/min, not a branch, and each field runs its own pass over
+    contiguous cells (unsigned-indexed), each cell's sums in the same order as a face-by-face,
+    field-by-field pass (1.4x faster on the painting grid; a gather, each cell summing its own
+    faces, was no faster)."""
     n, nx, ny, nz = q.shape
     out[:] = q
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if i > 0 and tu[i, j, k] == FREE:
-                    _face_flux(q, out, n, i - 1, j, k, i, j, k, u[i, j, k], rate)
-                if j > 0 and tv[i, j, k] == FREE:
-                    _face_flux(q, out, n, i, j - 1, k, i, j, k, v[i, j, k], rate)
-                if dim == 3 and k > 0 and tw[i, j, k] == FREE:
-                    _face_flux(q, out, n, i, j, k - 1, i, j, k, w[i, j, k], rate)
+    three = dim == 3
+    for p in range(n):
+        qp = q[p]
+        op = out[p]
+        for i in range(nx):
+            ui = np.uint64(i)
+            for j in range(ny):
+                uj = np.uint64(j)
+                for k in range(nz):
+                    uk = np.uint64(k)
+                    here = qp[ui, uj, uk]
+                    if i > 0 and tu[ui, uj, uk] == FREE:
+                        vel = rate * u[ui, uj, uk]
+                        f = max(vel, 0.0) * qp[ui - U1, uj, uk] + min(vel, 0.0) * here
+                        op[ui - U1, uj, uk] -= f
+                        op[ui, uj, uk] += f
+                    if j > 0 and tv[ui, uj, uk] == FREE:
+                        vel = rate * v[ui, uj, uk]
+                        f = max(vel, 0.0) * qp[ui, uj - U1, uk] + min(vel, 0.0) * here
+                        op[ui, uj - U1, uk] -= f
+                        op[ui, uj, uk] += f
+                    if three and k > 0 and tw[ui, uj, uk] == FREE:
+                        vel = rate * w[ui, uj, uk]
+                        f = max(vel, 0.0) * qp[ui, uj, uk - U1] + min(vel, 0.0) * here
+                        op[ui, uj, uk - U1] -= f
+                        op[ui, uj, uk] += f
 
 
 def _third(
