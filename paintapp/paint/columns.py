@@ -33,6 +33,7 @@ the texels it reaches).
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Protocol
 
@@ -173,8 +174,8 @@ class ColumnWindow:
         ox, oy = self.origin_texel
         k, kernel = self.k, self.kernel
         return (
-            AxisWeights(transfer_weights(ox, k, r[0], r[1], box[0], box[2], kernel)),
-            AxisWeights(transfer_weights(oy, k, r[2], r[3], box[1], box[3], kernel)),
+            axis_weights(ox + r[0] * k - box[0], k, r[1] - r[0], box[2] - box[0], kernel),
+            axis_weights(oy + r[2] * k - box[1], k, r[3] - r[2], box[3] - box[1], kernel),
         )
 
     def _mobile(self, canvas: Canvas, box: tuple[int, int, int, int]):
@@ -267,6 +268,15 @@ def transfer_weights(
         return np.maximum(1.0 - t, 0.0)
     outer = 0.5 * (1.5 - np.minimum(t, 1.5)) ** 2
     return np.where(t <= 0.5, 0.75 - t * t, outer)
+
+
+@functools.lru_cache(maxsize=64)
+def axis_weights(offset: int, k: int, columns: int, texels: int, kernel: str) -> AxisWeights:
+    """:class:`AxisWeights` of ``columns`` columns over ``texels`` texels, the first column's
+    block starting ``offset`` texels after the first texel: the weights depend on nothing else,
+    and a window that moves by whole cells meets the same few again and again (kept, not built
+    anew with their sparse matrices: 0.4 ms each on an A4 canvas at 0.1 mm). Read only."""
+    return AxisWeights(transfer_weights(offset, k, 0, columns, 0, texels, kernel))
 
 
 class AxisWeights:
