@@ -35,6 +35,7 @@ Arrays are stored like the MAC samples (``[i, j, k]``, x first); outside the pro
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -278,8 +279,9 @@ def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray,
     hi = np.array(grid.cells, dtype=np.int64)
     lower, upper = probe.world_box()
     for a in range(grid.dim):
-        lo[a] = int(np.clip(np.floor((lower[a] - grid.origin_m[a]) / h) - margin, 0, grid.cells[a]))
-        hi[a] = int(np.clip(np.ceil((upper[a] - grid.origin_m[a]) / h) + margin, 0, grid.cells[a]))
+        n = grid.cells[a]
+        lo[a] = min(max(math.floor((lower[a] - grid.origin_m[a]) / h) - margin, 0), n)
+        hi[a] = min(max(math.ceil((upper[a] - grid.origin_m[a]) / h) + margin, 0), n)
     return lo, hi
 
 
@@ -343,10 +345,21 @@ def _sample_sdf(
     targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, geo.owner_cell)]
     values_of = _lattice_sdf(probe, shape, axes, targets)
     for (_, phi, owner), values in zip(targets, values_of, strict=True):
-        window = tuple(slice(lo[b], lo[b] + values.shape[b]) for b in range(3))
-        sub = phi[window]
-        closer = values < sub
-        sub[closer] = values[closer]
-        if owner is geo.owner_cell:
-            closer &= values <= 0.0  # a cell belongs to the probe its centre lies inside
-        owner[window][closer] = index
+        # a cell belongs to the probe its centre lies inside
+        _take_closer(values, phi, owner, lo, index, owner is geo.owner_cell)
+
+
+@njit(cache=True, nogil=True)
+def _take_closer(values, phi, owner, lo, index, inside_only):
+    """Where ``values`` (a window at ``lo`` of ``phi``) are below ``phi``, take them, and make
+    ``index`` the owner there (only where also ``<= 0`` with ``inside_only``)."""
+    ni, nj, nk = values.shape
+    for i in range(ni):
+        for j in range(nj):
+            for k in range(nk):
+                value = values[i, j, k]
+                gi, gj, gk = lo[0] + i, lo[1] + j, lo[2] + k
+                if value < phi[gi, gj, gk]:
+                    phi[gi, gj, gk] = value
+                    if not inside_only or value <= 0.0:
+                        owner[gi, gj, gk] = index
