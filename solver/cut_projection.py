@@ -257,6 +257,24 @@ def fill_fresh_pressure(p, was_active, active, dim):
                     p[i, j, k] = 0.0
 
 
+@njit(cache=True, nogil=True)
+def remove_mean(rhs, active):
+    """Subtract the mean over ``active`` entries from those entries, flat arrays (a closed
+    domain's Poisson problem is solvable only for a right-hand side of zero sum)."""
+    total = 0.0
+    n = 0
+    for idx in range(rhs.size):
+        if active[idx]:
+            total += rhs[idx]
+            n += 1
+    if n == 0:
+        return
+    mean = total / n
+    for idx in range(rhs.size):
+        if active[idx]:
+            rhs[idx] -= mean
+
+
 def pressure_system(
     static: np.ndarray,
     dim: int,
@@ -300,9 +318,7 @@ def project_cut(
     rhs = flux
     rhs *= -h
     if not np.any(kinds[:dim] == OUTFLOW):
-        n = int(system.active.sum())
-        if n:
-            rhs[system.active] -= rhs[system.active].sum() / n
+        remove_mean(rhs.reshape(-1), system.active.reshape(-1))
     phi[~system.active] = 0.0
     report = linear_solve(system, rhs, phi, tol, max_iter)
     for a in range(dim):

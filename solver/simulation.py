@@ -253,12 +253,13 @@ class Simulation:
                 subtract_gradient(st.comps[a], st.face_types[a], a, phi_old, h)
 
     def _diffuse(self, dt_s: float) -> tuple[SolveReport, ...]:
-        if not np.any(self.viscosity_pa_s > 0.0) and self.drag_per_s is None:
+        mu_max = float(self.viscosity_pa_s.max())  # the field is >= 0 (set_viscosity)
+        if mu_max <= 0.0 and self.drag_per_s is None:
             return ()  # inviscid: no viscosity solve at all
         g, st, cfg = self.grid, self.state, self.settings
         rigid = self._rigid
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
-        coupling = 2 * g.dim * float(self.viscosity_pa_s.max()) * dt_s / (rho * h * h)
+        coupling = 2 * g.dim * mu_max * dt_s / (rho * h * h)
         solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
         if self.cut is not None:
             cut = self.cut
