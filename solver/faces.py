@@ -97,3 +97,21 @@ def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_ty
                     values[i, j, k] = rigid_velocity(centre, vel, omega, owner, x, y, z, axis)
                 else:
                     values[i, j, k] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def label_cells(label, static_label, static_solid, owner_cell, use_owner):
+    """Cell labels for a step: ``STATIC_SOLID`` where ``static_solid``, else ``FLUID``, into both
+    ``label`` and ``static_label``; then, with ``use_owner``, a fluid cell whose centre a probe
+    covers (``owner_cell >= 0``, the cut geometry's) takes that probe's index in ``label``. One
+    pass, for the several whole-grid masks it replaces."""
+    lab = label.reshape(-1)
+    stat = static_label.reshape(-1)
+    solid = static_solid.reshape(-1)
+    owner = owner_cell.reshape(-1)
+    for n in range(lab.size):
+        value = STATIC_SOLID if solid[n] else FLUID
+        stat[n] = value
+        if use_owner and value == FLUID and owner[n] >= 0:
+            value = owner[n]
+        lab[n] = value

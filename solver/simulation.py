@@ -26,7 +26,7 @@ from solver.cut_projection import (
     subtract_cut_gradient,
 )
 from solver.cut_viscosity import ViscosityWork, diffuse_cut, mark_probe_samples
-from solver.faces import FLUID, STATIC_SOLID, classify_faces
+from solver.faces import FLUID, classify_faces, label_cells
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
@@ -146,7 +146,9 @@ class Simulation:
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
         self._was_active = np.zeros(grid.cells, dtype=np.bool_)
         self.static_solid = (
-            np.zeros(grid.cells, dtype=bool) if static_solid is None else static_solid.astype(bool)
+            np.zeros(grid.cells, dtype=bool)
+            if static_solid is None
+            else np.array(static_solid, dtype=bool, order="C")  # a copy of its own
         )
         self.state = FluidState.at_rest(grid)
         self.time_s = 0.0
@@ -369,15 +371,12 @@ class Simulation:
         self._motion = self.rigid_motion()
         self._rigid = np.stack(self._motion[:3])  # (3, n, 3): centre, velocity, angular velocity
         label = self.state.label
-        label[:] = FLUID
-        label[self.static_solid] = STATIC_SOLID
-        self._static_label[:] = label
         if self.cut is not None:  # the cut geometry samples the cell centres too
             radius = self.settings.corner_radius_cells * self.grid.cell_size_m
             self.cut.update(self.grid, self.probes, radius)
-            inside = (self.cut.owner_cell >= 0) & (label == FLUID)
-            label[inside] = self.cut.owner_cell[inside]
+            label_cells(label, self._static_label, self.static_solid, self.cut.owner_cell, True)
             return
+        label_cells(label, self._static_label, self.static_solid, label, False)
         for n, probe in enumerate(self.probes):
             window, mask = probe.voxelize(self.grid)
             sub = label[window]
