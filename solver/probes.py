@@ -183,7 +183,7 @@ class Probe:
         shape's support function ``support(direction)`` (``max over the shape of direction . x``,
         body frame) where it has one, the tight box in any pose; else the bounding sphere's. A
         brush tip's bounding sphere is its whole length wide: on the painting grid the tight box
-        holds a quarter of the sphere's cells."""
+        (plus the cut geometry's margin) holds about a third of the sphere's cells."""
         support = getattr(self.shape, "support", None)
         if support is None:
             r = self.shape.bounding_radius_m
