@@ -7,7 +7,8 @@ Opens the real window (on the current display, or on a private Xvfb server when 
 dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events
 sent to the canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs
 the 1 kHz servo loop, in its own process unless ``--servo thread``). Prints the display frame
-rate, the paint steps per second, and with a device the servo loop's achieved rate, tick-interval
+rate (passes of the render loop, each leaving the screen up to date, and how many of them had
+something to redraw), the paint steps per second, and with a device the servo loop's achieved rate, tick-interval
 jitter and start lateness, and what the OS granted the servo process. Then (unless
 ``--headless-seconds 0``) it feeds the very samples and events the window's simulation consumed
 (its journal) to a fresh session of the same brush and scene -- no window, no servo loop -- as fast
@@ -87,6 +88,7 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     widget = win.canvas_widget
     send = tablet_sender(widget)
     frames0, steps0 = widget.frame_count, win.worker.session.stats.paint_steps
+    drawn0 = widget.drawn_count
     worker_clock = time.pthread_getcpuclockid(win.worker.ident)
     cpu0 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
     start = time.perf_counter()
@@ -105,7 +107,10 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     cpu1 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
     return {
         "seconds": elapsed,
+        # passes of the render loop (each leaves the screen up to date), and those that had
+        # something to redraw (new paint, the brush outline or the force arrow moved)
         "frame_hz": (widget.frame_count - frames0) / elapsed,
+        "drawn_hz": (widget.drawn_count - drawn0) / elapsed,
         "sim_hz": (win.worker.session.stats.paint_steps - steps0) / elapsed,
         # CPU time per wall second: the simulation worker thread, the GUI thread, the whole app
         # process (servo thread and llvmpipe's threads included). A worker far below 1 while
@@ -205,7 +210,7 @@ def run(args: argparse.Namespace) -> None:
     rates = paint(app, win, args.seconds)
     print(f"window {win.canvas_widget.width()}x{win.canvas_widget.height()} px, "
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
-    print(f"frame rate      {rates['frame_hz']:7.1f} Hz")
+    print(f"frame rate      {rates['frame_hz']:7.1f} Hz ({rates['drawn_hz']:.1f} Hz with changes)")
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
     print(f"CPU per second  worker {rates['worker_cpu']:.2f}, GUI {rates['gui_cpu']:.2f}, "
           f"app process {rates['app_cpu']:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
@@ -214,7 +219,11 @@ def run(args: argparse.Namespace) -> None:
         print(f"no paint step: worker says {win.worker.message!r}; in contact "
               f"{session.in_contact}; last sample {session.tracker.last}")  # fmt: skip
     figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
-    figures |= {"seconds": rates["seconds"], "frame rate": rates["frame_hz"]}
+    figures |= {
+        "seconds": rates["seconds"],
+        "frame rate": rates["frame_hz"],
+        "frames with changes": rates["drawn_hz"],
+    }
     figures["simulation rate"] = rates["sim_hz"]
     if win.link is not None:
         link = win.link

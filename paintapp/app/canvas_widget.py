@@ -1,13 +1,24 @@
-"""The canvas widget: renders the display canvas with moderngl and turns pointer events into
-stylus samples.
+"""The canvas widget: renders the display canvas with moderngl offscreen and shows it as an image,
+and turns pointer events into stylus samples.
 
-It is a :class:`QOpenGLWidget`; ``initializeGL`` wraps Qt's context with
-``moderngl.create_context()`` and ``paintGL`` draws into Qt's framebuffer object
-(``ctx.detect_framebuffer(self.defaultFramebufferObject())``; framebuffer 0 is not the widget's).
-Each frame uploads only the display canvas's dirty region, under the shared lock, re-shades only
-that region of the cached lit picture (:meth:`CanvasRenderer.render_cached`), draws the picture,
-and the brush outline and the force arrow over it. The render loop is a Qt timer at the display
-rate that calls ``update()``.
+It is a plain raster :class:`QWidget`. The GL work happens in a standalone (EGL) context that
+the widget owns, into an offscreen 8-bit framebuffer the size of the widget; each pass of the
+render loop (:meth:`CanvasWidget.refresh`, a Qt timer at the display rate):
+
+1. uploads the display canvas's dirty region, under the shared lock (only for the upload);
+2. finds the widget rectangle that changed: that dirty region on screen, and where the brush
+   outline and the force arrow were and are now (all of it after a resize, a new light, a new
+   canvas);
+3. draws only that rectangle (a GL scissor): minified, the Kubelka-Munk mixing and lighting per
+   window pixel (:meth:`CanvasRenderer.render`); magnified, the cached lit picture
+   (:meth:`CanvasRenderer.render_cached`, which shades at most each changed texel once);
+4. reads that rectangle back into the widget's image and asks Qt to repaint just that rectangle.
+
+Qt's raster backing store then puts only the changed pixels on the screen. This replaced a
+``QOpenGLWidget``: on a software rasterizer its composition of the whole window through GL and
+the full-window redraw of every frame cost ~35 ms of CPU per frame, which both capped the frame
+rate and starved the simulation worker (measured with ``benchmarks/bench_app.py``, see the
+README).
 """
 
 from __future__ import annotations
@@ -16,9 +27,9 @@ import math
 from collections.abc import Callable
 
 import moderngl
-from PySide6.QtCore import QEvent, Qt
-from PySide6.QtGui import QMouseEvent, QTabletEvent
-from PySide6.QtOpenGLWidgets import QOpenGLWidget
+import numpy as np
+from PySide6.QtCore import QEvent, QRect, Qt
+from PySide6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPaintEvent, QTabletEvent
 from PySide6.QtWidgets import QWidget
 
 from paintapp.app.input import (
@@ -28,15 +39,24 @@ from paintapp.app.input import (
     pen_from_tablet,
 )
 from paintapp.app.shared import RateMeter, SharedCanvas, WorkerStatus
+from paintapp.canvas.regions import Box
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import BrushOutline, CanvasRenderer, ForceArrow, Lighting
+from paintapp.render.context import create_headless_context
+from paintapp.render.overlays import arrow_triangles, outline_triangles
 
 #: Force arrow length on the canvas per newton of (unscaled) fluid force, in canvas widths
 #: (the paint's forces are millinewtons to a few tenths of a newton: 10 mN is a tenth).
 ARROW_WIDTH_PER_N = 10.0
+#: Pixels added around a changed rectangle (filtering, line widths, rounding), device pixels.
+PAD_PX = 3
+#: RGBA bytes to the byte order of ``QImage.Format_RGB32``.
+BGRA = [2, 1, 0, 3]
+#: Colour of the widget while no picture exists (no GL, or before the first frame).
+BLANK = QColor(5, 5, 5)
 
 
-class CanvasWidget(QOpenGLWidget):
+class CanvasWidget(QWidget):
     """Shows the shared display canvas; reports pen states to ``on_pen``.
 
     Args:
@@ -65,13 +85,23 @@ class CanvasWidget(QOpenGLWidget):
         self.show_brush = True
         self.ctx: moderngl.Context | None = None
         self.renderer: CanvasRenderer | None = None
+        #: passes of the render loop that left the screen up to date, and how many drew
         self.frames = RateMeter()
         self.frame_count = 0
+        self.drawn_count = 0
         self.gl_error: str | None = None
         self._tablet_down = False
+        self._fbo: moderngl.Framebuffer | None = None
+        self._pixels = np.zeros((1, 1, 4), np.uint8)  # device pixels, row 0 = top
+        self._image: QImage | None = None
+        self._drawn: tuple | None = None  # what the whole picture was last drawn for
+        self._overlay_box: Box | None = None  # device pixels, y down
+        self._overlays_drawn: tuple[list, list] = ([], [])
+        self._pending: Box | None = None  # texels uploaded outside the render loop
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setAttribute(Qt.WidgetAttribute.WA_TabletTracking, True)
+        self.setAttribute(Qt.WidgetAttribute.WA_OpaquePaintEvent, True)
         self.setMinimumSize(320, 240)
 
     # --- geometry ------------------------------------------------------------------------------
@@ -79,31 +109,136 @@ class CanvasWidget(QOpenGLWidget):
         """Where the canvas sits in the widget now."""
         return ViewMapping(self.shared.canvas.size_m, (self.width(), self.height()))
 
+    def _device_size(self) -> tuple[int, int]:
+        ratio = self.devicePixelRatioF()
+        return max(1, round(self.width() * ratio)), max(1, round(self.height() * ratio))
+
     # --- GL ------------------------------------------------------------------------------------
-    def initializeGL(self) -> None:
+    def _start_gl(self) -> bool:
+        """Create the context and renderer once; False (and ``gl_error`` set) without GL."""
+        if self.renderer is not None:
+            return True
+        if self.gl_error is not None:
+            return False
         try:
-            self.ctx = moderngl.create_context()
-            self.renderer = CanvasRenderer(self.ctx, self.library, lighting=self.lighting)
+            self.ctx = create_headless_context()
+            with self.ctx:
+                self.renderer = CanvasRenderer(self.ctx, self.library, lighting=self.lighting)
         except Exception as exc:  # no usable GL: the window stays up and says so
             self.gl_error = f"OpenGL unavailable: {exc}"
             self.ctx = self.renderer = None
+            self.update()
+            return False
+        return True
 
-    def paintGL(self) -> None:
-        if self.ctx is None or self.renderer is None:
+    def refresh(self) -> None:
+        """One pass of the render loop (see the module docstring)."""
+        if not self._start_gl():
             return
+        assert self.ctx is not None and self.renderer is not None
         renderer = self.renderer
         renderer.lighting = self.lighting
-        with self.shared.lock:
-            renderer.update(self.shared.canvas)
-            size_m = self.shared.canvas.size_m
-        ratio = self.devicePixelRatioF()
-        size = (max(1, round(self.width() * ratio)), max(1, round(self.height() * ratio)))
-        fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
-        mapping = ViewMapping(size_m, (self.width(), self.height()))
-        outlines, arrows = self._overlays(size_m)
-        renderer.render_cached(size, mapping.view, outlines, arrows, framebuffer=fbo)
+        size = self._device_size()
+        with self.ctx:
+            with self.shared.lock:
+                table = renderer.table
+                uploaded = renderer.update(self.shared.canvas)
+                size_m = self.shared.canvas.size_m
+                texel_m = self.shared.canvas.texel_size_m
+            mapping = ViewMapping(size_m, (self.width(), self.height()))
+            ratio = size[0] / max(1, self.width())
+            outlines, arrows = self._overlays(size_m)
+            overlay_box = self._overlay_extent(outlines, arrows, mapping, ratio, size)
+            key = (size, size_m, self.lighting)
+            if key != self._drawn or renderer.table is not table or self._fbo is None:
+                box: Box | None = (0, 0, *size)
+                self._resize_target(size)
+                self._drawn = key
+            else:
+                moved = (outlines, arrows) != self._overlays_drawn
+                box = _union(self._overlay_box, overlay_box) if moved else None
+                changed = _union(self._pending, uploaded)
+                if changed is not None:
+                    box = _union(box, _texel_box_px(changed, texel_m, mapping, ratio, size))
+            self._overlay_box = overlay_box
+            self._overlays_drawn = (outlines, arrows)
+            self._pending = None
+            if box is not None:
+                cached = mapping.metres_per_px < min(texel_m) * ratio  # magnified
+                self._draw(box, size, mapping, outlines, arrows, cached)
+                self.drawn_count += 1
         self.frames.tick()
         self.frame_count += 1
+
+    def invalidate(self) -> None:
+        """Make the next pass of the render loop redraw the whole widget."""
+        self._drawn = None
+
+    def shown_pixels(self) -> np.ndarray:
+        """A copy of what the widget shows, (H, W, 3) uint8 RGB in device pixels, row 0 = top."""
+        return self._pixels[..., [2, 1, 0]].copy()
+
+    def _resize_target(self, size: tuple[int, int]) -> None:
+        assert self.ctx is not None
+        if self._fbo is not None and self._fbo.size == size:
+            return
+        if self._fbo is not None:
+            for attachment in self._fbo.color_attachments:
+                attachment.release()
+            self._fbo.release()
+        self._fbo = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(size, 4)])
+        w, h = size
+        # The image owns its memory and the array views it (an image made over a Python
+        # buffer upsets PySide6's reference counts at exit).
+        image = QImage(w, h, QImage.Format.Format_RGB32)  # the backing store's own format
+        image.fill(BLANK)
+        image.setDevicePixelRatio(w / max(1, self.width()))
+        rows = np.frombuffer(image.bits(), np.uint8).reshape(h, image.bytesPerLine())
+        self._pixels = rows[:, : 4 * w].reshape(h, w, 4)
+        self._image = image
+
+    def _draw(
+        self,
+        box: Box,
+        size: tuple[int, int],
+        mapping: ViewMapping,
+        outlines: list,
+        arrows: list,
+        cached: bool,
+    ) -> None:
+        """Draw device-pixel rectangle ``box`` (y down) offscreen, read it back, show it."""
+        assert self.ctx is not None and self.renderer is not None and self._fbo is not None
+        x0, y0, x1, y1 = box
+        w, h = x1 - x0, y1 - y0
+        gl_box = (x0, size[1] - y1, w, h)  # GL rows count up from the bottom
+        fbo = self._fbo
+        fbo.use()
+        self.ctx.scissor = gl_box
+        try:
+            draw = self.renderer.render_cached if cached else self.renderer.render
+            draw(size, mapping.view, outlines, arrows, framebuffer=fbo)
+            data = fbo.read(viewport=gl_box, components=4)
+        finally:
+            fbo.use()
+            self.ctx.scissor = None
+        rgba = np.frombuffer(data, np.uint8).reshape(h, w, 4)
+        self._pixels[y0:y1, x0:x1] = rgba[::-1, :, BGRA]  # RGB32 is B, G, R, 255 in memory
+        ratio = size[0] / max(1, self.width())
+        self.update(_logical_rect(box, ratio))
+
+    def paintEvent(self, event: QPaintEvent) -> None:
+        painter = QPainter(self)
+        try:
+            area = event.rect()
+            if self._image is None:
+                painter.fillRect(area, BLANK)
+                if self.gl_error:
+                    painter.setPen(QColor(230, 230, 230))
+                    painter.drawText(self.rect(), Qt.AlignmentFlag.AlignCenter, self.gl_error)
+                return
+            painter.drawImage(area, self._image, _device_rect(area, self._image))
+        finally:
+            painter.end()
 
     def _overlays(self, size_m: tuple[float, float]) -> tuple[list, list]:
         status = self.status()
@@ -117,6 +252,27 @@ class CanvasWidget(QOpenGLWidget):
             return outlines, []
         arrow = ForceArrow(status.tip_m, (*force, 0.0), ARROW_WIDTH_PER_N * size_m[0])
         return outlines, [arrow]
+
+    @staticmethod
+    def _overlay_extent(
+        outlines: list,
+        arrows: list,
+        mapping: ViewMapping,
+        ratio: float,
+        size: tuple[int, int],
+    ) -> Box | None:
+        """Device-pixel box (y down) covering the overlays, or None without any."""
+        pixel_m = mapping.metres_per_px / ratio
+        shapes = [outline_triangles(o, pixel_m) for o in outlines]
+        shapes += [arrow_triangles(a, pixel_m) for a in arrows]
+        points = [s for s in shapes if len(s)]
+        if not points:
+            return None
+        xy = np.concatenate(points)
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+            return (0, 0, *size)
+        return _metres_box_px((lo[0], lo[1], hi[0], hi[1]), mapping, ratio, size)
 
     def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
@@ -155,13 +311,63 @@ class CanvasWidget(QOpenGLWidget):
     def render_picture(self):
         """The lit canvas at one pixel per texel, linear RGBA (H, W, 4), row 0 = bottom; None
         without OpenGL."""
-        if self.renderer is None:
+        if not self._start_gl():
             return None
-        self.makeCurrent()
-        try:
+        assert self.ctx is not None and self.renderer is not None
+        with self.ctx:
             with self.shared.lock:
-                self.renderer.update(self.shared.canvas)
+                uploaded = self.renderer.update(self.shared.canvas)
+            self._pending = _union(self._pending, uploaded)  # the next frame shows it
             self.renderer.render()
             return self.renderer.read_linear_rgba()
-        finally:
-            self.doneCurrent()
+
+
+def _union(a: Box | None, b: Box | None) -> Box | None:
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
+
+
+def _metres_box_px(
+    box_m: tuple[float, float, float, float],
+    mapping: ViewMapping,
+    ratio: float,
+    size: tuple[int, int],
+) -> Box | None:
+    """Device-pixel box (y down, padded, clipped to ``size``) of a canvas box in metres."""
+    left, top = mapping.to_widget(box_m[0], box_m[3])
+    right, bottom = mapping.to_widget(box_m[2], box_m[1])
+    x0 = max(0, math.floor(left * ratio) - PAD_PX)
+    y0 = max(0, math.floor(top * ratio) - PAD_PX)
+    x1 = min(size[0], math.ceil(right * ratio) + PAD_PX)
+    y1 = min(size[1], math.ceil(bottom * ratio) + PAD_PX)
+    if x1 <= x0 or y1 <= y0:
+        return None
+    return x0, y0, x1, y1
+
+
+def _texel_box_px(
+    box: Box, texel_m: tuple[float, float], mapping: ViewMapping, ratio: float, size
+) -> Box | None:
+    """Device-pixel box of a texel box, grown by a texel for the lighting's slopes."""
+    dx, dy = texel_m
+    x0, y0, x1, y1 = box
+    box_m = ((x0 - 1) * dx, (y0 - 1) * dy, (x1 + 1) * dx, (y1 + 1) * dy)
+    return _metres_box_px(box_m, mapping, ratio, size)
+
+
+def _logical_rect(box: Box, ratio: float) -> QRect:
+    x0, y0, x1, y1 = box
+    left, top = math.floor(x0 / ratio), math.floor(y0 / ratio)
+    return QRect(left, top, math.ceil(x1 / ratio) - left, math.ceil(y1 / ratio) - top)
+
+
+def _device_rect(area: QRect, image: QImage) -> QRect:
+    """The image's device pixels behind widget rectangle ``area``."""
+    ratio = image.devicePixelRatio()
+    x0, y0 = math.floor(area.x() * ratio), math.floor(area.y() * ratio)
+    x1 = math.ceil((area.x() + area.width()) * ratio)
+    y1 = math.ceil((area.y() + area.height()) * ratio)
+    return QRect(x0, y0, x1 - x0, y1 - y0)

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from PySide6.QtCore import QPointF, QRectF, Qt
+from PySide6.QtCore import QPointF, QRect, QRectF, Qt
 from PySide6.QtGui import QColor, QFont, QPainter, QPen
 from PySide6.QtWidgets import QWidget
 
@@ -29,6 +29,8 @@ from paintapp.app.shared import WorkerStatus
 GAUGE_PX = 70
 #: Newtons at the gauge's rim (the in-plane fluid force, before the force scale).
 GAUGE_FULL_N = 0.02
+#: Room, px, the panel's repaint leaves it to grow right and down between two repaints.
+PANEL_SLACK_PX = 48
 
 
 @dataclass(frozen=True)
@@ -99,27 +101,60 @@ class HudOverlay(QWidget):
         self.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents, True)
         self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground, True)
         self.setGeometry(parent.rect())
+        self._panel = QRect()  # what the last paint covered (empty: nothing yet)
+        self._grid = QRect()  # where the grid outline was last drawn
 
-    def paintEvent(self, _event) -> None:
+    def paintEvent(self, event) -> None:
+        # The canvas beneath repaints its changed rectangles every frame, and Qt repaints this
+        # overlay over each: draw only the parts that meet the rectangle repainted.
+        area = event.rect()
         status = self.status()
+        grid = self._grid_rect(status)
+        draw_grid = not grid.isEmpty() and area.intersects(grid)
+        draw_text = self.show_text and (self._panel.isEmpty() or area.intersects(self._panel))
+        self._grid = grid
+        if not (draw_grid or draw_text):
+            return
         painter = QPainter(self)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
-        if self.show_grid and status.grid_m is not None:
+        if draw_grid and status.grid_m is not None:
             self._draw_grid(painter, status.grid_m)
-        if self.show_text:
-            bottom = self._draw_text(painter, hud_lines(status, self.data()))
-            self._draw_gauge(painter, status, bottom + 8)
+        if draw_text:
+            text = self._draw_text(painter, hud_lines(status, self.data()))
+            gauge = self._draw_gauge(painter, status, text.bottom() + 8)
+            panel = text.united(gauge).toAlignedRect().adjusted(-2, -2, 2, 2)
+            if not area.contains(panel):
+                self.update(panel)  # the panel grew past what was repainted
+            self._panel = panel
         painter.end()
+        if not self.show_text:
+            self._panel = QRect()
 
-    def _draw_grid(self, painter: QPainter, grid: tuple[float, float, float, float]) -> None:
+    def refresh(self) -> None:
+        """Repaint what the HUD covers: its panel (with room to grow) and the grid outline,
+        where it was and where it is now."""
+        if self.show_text and self._panel.isEmpty():
+            self.update()
+            return
+        if self.show_text:
+            self.update(self._panel.adjusted(0, 0, PANEL_SLACK_PX, PANEL_SLACK_PX))
+        for grid in (self._grid, self._grid_rect(self.status())):
+            if not grid.isEmpty():
+                self.update(grid)
+
+    def _grid_rect(self, status: WorkerStatus) -> QRect:
+        """Where the grid outline is drawn (empty when it is not shown)."""
+        if not self.show_grid or status.grid_m is None:
+            return QRect()
+        grid = status.grid_m
         mapping = self.mapping()
         x0, y1 = mapping.to_widget(grid[0], grid[1])
         x1, y0 = mapping.to_widget(grid[2], grid[3])
-        painter.setPen(QPen(QColor(80, 220, 255, 220), 1.5, Qt.PenStyle.DashLine))
-        painter.setBrush(Qt.BrushStyle.NoBrush)
-        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)))
+        if not all(math.isfinite(v) for v in (x0, y0, x1, y1)):
+            return self.rect()
+        return QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect().adjusted(-3, -3, 3, 3)
 
-    def _draw_text(self, painter: QPainter, lines: list[str]) -> float:
+    def _draw_text(self, painter: QPainter, lines: list[str]) -> QRectF:
         font = QFont("monospace")
         font.setStyleHint(QFont.StyleHint.Monospace)
         font.setPointSize(9)
@@ -134,10 +169,13 @@ class HudOverlay(QWidget):
         painter.setPen(QColor(235, 235, 235))
         for i, line in enumerate(lines):
             painter.drawText(QPointF(16, 14 + metrics.ascent() + i * height), line)
-        return box.bottom()
+        return box
 
-    def _draw_gauge(self, painter: QPainter, status: WorkerStatus, top: float) -> None:
+    def _draw_gauge(self, painter: QPainter, status: WorkerStatus, top: float) -> QRectF:
+        """Draw the force gauge below ``top``; returns the rectangle it covers."""
         centre = QPointF(8 + GAUGE_PX / 2 + 4, top + GAUGE_PX / 2 + 4)
+        rim = GAUGE_PX / 2 + 4
+        area = QRectF(centre.x() - rim, centre.y() - rim, 2 * rim, 2 * rim)
         painter.setPen(Qt.PenStyle.NoPen)
         painter.setBrush(QColor(0, 0, 0, 160))
         painter.drawEllipse(centre, GAUGE_PX / 2 + 4, GAUGE_PX / 2 + 4)
@@ -146,13 +184,14 @@ class HudOverlay(QWidget):
         painter.drawEllipse(centre, GAUGE_PX / 2, GAUGE_PX / 2)
         fx, fy = (float(v) for v in status.force_n[:2])
         if not (math.isfinite(fx) and math.isfinite(fy)):
-            return
+            return area
         size = math.hypot(fx, fy)
         if size < 1e-9:
-            return
+            return area
         length = GAUGE_PX / 2 * min(size / GAUGE_FULL_N, 1.0)
         tip = QPointF(centre.x() + length * fx / size, centre.y() - length * fy / size)
         painter.setPen(QPen(QColor(255, 60, 20), 3))
         painter.drawLine(centre, tip)
         painter.setBrush(QColor(255, 60, 20))
         painter.drawEllipse(tip, 3, 3)
+        return area

@@ -42,7 +42,9 @@ from paintapp.canvas.model import Canvas
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import Lighting
 
-HUD_EVERY_FRAMES = 2
+#: The HUD repaints every this many frames (10 times a second at the default frame period):
+#: its figures are read, not watched, and its painting holds the interpreter lock.
+HUD_EVERY_FRAMES = 6
 
 
 class PaintWindow(QMainWindow):
@@ -198,10 +200,10 @@ class PaintWindow(QMainWindow):
 
     # --- the render loop ------------------------------------------------------------------------
     def _frame_tick(self) -> None:
-        self.canvas_widget.update()
+        self.canvas_widget.refresh()
         self._frame += 1
         if self._frame % HUD_EVERY_FRAMES == 0:
-            self.hud.update()
+            self.hud.refresh()
             if self.help.isVisible():
                 self.help.update()
             self._show_slab()

@@ -253,3 +253,35 @@ def test_servo_process_steers_the_brush_and_its_death_is_survived(qapp, pump, st
     finally:
         win.close()
         pump(0.1)
+
+
+@pytest.mark.parametrize("window_px", [(1180, 760), (560, 420)], ids=["magnified", "minified"])
+def test_the_canvas_redraws_only_what_changed_and_matches_a_full_redraw(
+    window, pump, stroke, window_px
+):
+    """The widget redraws only the rectangles that changed (paint, brush outline, force arrow);
+    what it shows then equals a redraw of everything. A 720x480 canvas in the default window
+    shows each texel on more than one pixel (the cached picture path), in a small window on
+    less than one (the per-pixel path)."""
+    win, widget = window, window.canvas_widget
+    win.resize(*window_px)
+    assert pump(5.0, lambda: widget.size().width() < window_px[0])
+    pump(0.3)
+    texel_m = win.shared.canvas.texel_size_m[0]
+    magnified = widget.mapping().metres_per_px < texel_m
+    assert magnified == (window_px[0] > 1000)
+    drawn = widget.drawn_count
+    pump(0.3)
+    assert widget.drawn_count == drawn, "an idle canvas was redrawn"
+    win.load_pigment("cadmium_red")
+    stroke(win, START_M, END_M)
+    _idle(win, pump, 1)
+    pump(0.3)
+    assert widget.drawn_count > drawn
+    shown = widget.shown_pixels()
+    assert shown.shape[:2] == (widget.height(), widget.width())
+    red = shown[..., 0].astype(int) - shown[..., 2]
+    assert (red > 40).sum() > 50, "no red paint on screen"
+    widget.invalidate()
+    widget.refresh()
+    assert np.array_equal(widget.shown_pixels(), shown)
