@@ -12,8 +12,8 @@ something to redraw), the paint steps per second, and with a device the servo lo
 rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo
-loop -- as fast as it takes them, from the first paint step on, and prints that paint-step rate and the window's
-share of it.
+loop -- as fast as it takes them, from the first paint step on, and prints that paint-step rate
+and the window's share of it.
 ``--json`` writes every figure to a file as well.
 """
 
