@@ -43,6 +43,7 @@ from paintapp.canvas.regions import Box
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import BrushOutline, CanvasRenderer, ForceArrow, Lighting
 from paintapp.render.context import create_headless_context
+from paintapp.render.finish import gl_finish
 from paintapp.render.overlays import arrow_triangles, outline_triangles
 
 #: Force arrow length on the canvas per newton of (unscaled) fluid force, in canvas widths
@@ -139,6 +140,10 @@ class CanvasWidget(QWidget):
         renderer = self.renderer
         renderer.lighting = self.lighting
         size = self._device_size()
+        if self._up_to_date(size):
+            self.frames.tick()
+            self.frame_count += 1
+            return
         with self.ctx:
             with self.shared.lock:
                 table = renderer.table
@@ -169,6 +174,24 @@ class CanvasWidget(QWidget):
                 self.drawn_count += 1
         self.frames.tick()
         self.frame_count += 1
+
+    def _up_to_date(self, size: tuple[int, int]) -> bool:
+        """Whether the picture already shows the canvas, the light and the overlays of now."""
+        assert self.renderer is not None
+        if self._drawn != (size, self.shared.canvas.size_m, self.lighting):
+            return False
+        if self._pending is not None or self._overlays(self.shared.canvas.size_m) != (
+            self._overlays_drawn
+        ):
+            return False
+        table = self.renderer.table
+        with self.shared.lock:
+            canvas = self.shared.canvas
+            return (
+                canvas.peek_dirty() is None
+                and table is not None
+                and table.names == canvas.pigment_names
+            )
 
     def invalidate(self) -> None:
         """Make the next pass of the render loop redraw the whole widget."""
@@ -217,6 +240,7 @@ class CanvasWidget(QWidget):
         try:
             draw = self.renderer.render_cached if cached else self.renderer.render
             draw(size, mapping.view, outlines, arrows, framebuffer=fbo)
+            gl_finish()  # the rasterizer's wait without the interpreter lock
             data = fbo.read(viewport=gl_box, components=4)
         finally:
             fbo.use()

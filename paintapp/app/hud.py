@@ -154,6 +154,14 @@ class HudOverlay(QWidget):
             return self.rect()
         return QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect().adjusted(-3, -3, 3, 3)
 
+    def _draw_grid(self, painter: QPainter, grid: tuple[float, float, float, float]) -> None:
+        mapping = self.mapping()
+        x0, y1 = mapping.to_widget(grid[0], grid[1])
+        x1, y0 = mapping.to_widget(grid[2], grid[3])
+        painter.setPen(QPen(QColor(80, 220, 255, 220), 1.5, Qt.PenStyle.DashLine))
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)))
+
     def _draw_text(self, painter: QPainter, lines: list[str]) -> QRectF:
         font = QFont("monospace")
         font.setStyleHint(QFont.StyleHint.Monospace)

@@ -151,3 +151,25 @@ def stroke(qapp, pump) -> Callable[..., None]:
         QApplication.sendEvent(widget, tablet_event(widget, T.TabletRelease, *points[-1], 0.0))
 
     return run
+
+
+@pytest.fixture
+def pen(qapp) -> Callable[..., None]:
+    """``pen(window, kind, point_m, pressure=0.8)``: one tablet event ("press", "move" or
+    "release") at a canvas point, sent to the canvas widget."""
+    from PySide6.QtCore import QEvent
+    from PySide6.QtWidgets import QApplication
+
+    kinds = {
+        "press": QEvent.Type.TabletPress,
+        "move": QEvent.Type.TabletMove,
+        "release": QEvent.Type.TabletRelease,
+    }
+
+    def send(window, kind: str, point_m, pressure: float = 0.8) -> None:
+        widget = window.canvas_widget
+        x, y = widget.mapping().to_widget(*point_m)
+        pressure = 0.0 if kind == "release" else pressure
+        QApplication.sendEvent(widget, tablet_event(widget, kinds[kind], x, y, pressure))
+
+    return send

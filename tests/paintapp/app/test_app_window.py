@@ -285,3 +285,34 @@ def test_the_canvas_redraws_only_what_changed_and_matches_a_full_redraw(
     widget.invalidate()
     widget.refresh()
     assert np.array_equal(widget.shown_pixels(), shown)
+
+
+def test_the_hud_outlines_the_paint_grid_on_request(window, pump, pen):
+    win = window
+    win.load_pigment("ultramarine_blue")
+    pen(win, "press", START_M)
+    try:
+        # the pen is held down: the brush stays in the paint and the grid rides with it
+        assert pump(10.0, lambda: win.worker.status.get().grid_m is not None)
+
+        def outline_pixels() -> int:
+            win.hud.refresh()
+            pump(0.3)
+            shot = win.grab().toImage()
+            rgb = np.array(
+                [
+                    [shot.pixelColor(i, j).getRgb()[:3] for i in range(0, shot.width(), 2)]
+                    for j in range(0, shot.height(), 2)
+                ]
+            )
+            cyan = (rgb[..., 2] > 200) & (rgb[..., 1] > 170) & (rgb[..., 0] < 140)
+            return int(cyan.sum())
+
+        assert outline_pixels() < 5
+        win.hud.show_grid = True
+        assert outline_pixels() > 20, "no grid outline on screen"
+        win.hud.show_grid = False
+        assert outline_pixels() < 5, "the outline stayed after it was turned off"
+    finally:
+        pen(win, "release", START_M)
+        pump(0.2)

@@ -284,3 +284,50 @@ def test_cached_picture_reshades_only_what_changed_and_stays_exact(ctx, library)
     assert shaded == (0, 0, *canvas.pixels)  # a new light reshades everything
     fresh.release()
     cached.release()
+
+
+def test_gl_finish_waits_for_the_rasterizer_with_the_interpreter_lock_released(ctx, library):
+    """The window's read-back waits in :func:`gl_finish`: the picture is complete after it, and
+    another Python thread (the simulation worker) keeps running while the rasterizer works."""
+    import threading
+    import time
+
+    from paintapp.render.finish import gl_finish
+
+    canvas = known_canvas(1200, 800)
+    renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+    renderer.update(canvas)
+    renderer.render()
+    ctx.finish()  # programs and textures ready: what follows times one render
+    counted, stop = [0], threading.Event()
+
+    def count() -> None:
+        while not stop.is_set():
+            counted[0] += 1
+
+    worker = threading.Thread(target=count)
+    worker.start()
+    time.sleep(0.05)
+    try:
+        before, begin = counted[0], time.perf_counter()
+        time.sleep(0.05)  # the pace of the other thread while this one holds no lock
+        free_rate = (counted[0] - before) / (time.perf_counter() - begin)
+        renderer.render()  # queued; the software rasterizer shades at the finish
+        before = counted[0]
+        begin = time.perf_counter()
+        assert gl_finish()
+        waited = time.perf_counter() - begin
+        during = counted[0] - before
+    finally:
+        stop.set()
+        worker.join()
+    assert waited > 0.005, f"nothing left to wait for ({1e3 * waited:.2f} ms): cannot tell"
+    # Held, the lock would let the other thread run a few switch intervals at most (~3 % of
+    # its free pace here); released, it shares the cores with the rasterizer (20-40 %).
+    share = during / waited / free_rate
+    assert share > 0.1, f"the other thread ran at {100 * share:.1f} % of its pace meanwhile"
+    rgba = renderer.read_linear_rgba()
+    crop = Canvas((24, 16), (24 * TEXEL_M, 16 * TEXEL_M), canvas.pigment_names)
+    crop.paint_m[:] = canvas.paint_m[:, :16, :24]
+    assert_matches(rgba[:16, :24], reference(crop, library))
+    renderer.release()
