@@ -188,13 +188,20 @@ def wait_until_ready(app, win, timeout_s: float = 30.0) -> None:
 
 
 def run(args: argparse.Namespace) -> None:
+    tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))  # the journal and recovery files
+    try:
+        measure(args, tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def measure(args: argparse.Namespace, tmp: Path) -> None:
     from paintapp.app.haptic_link import parse_device
     from paintapp.app.launch import create_window
     from paintapp.app.options import PaintOptions
 
     if args.switch_interval_ms is not None:
         sys.setswitchinterval(1e-3 * args.switch_interval_ms)
-    tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))
     options = PaintOptions(
         device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
         servo=args.servo, record=tmp / "bench.jsonl",
