@@ -243,8 +243,9 @@ class ColumnWindow:
         total = new_paint.sum(axis=0)
         with np.errstate(invalid="ignore", divide="ignore"):
             new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
-        new_paint[:, ~touched] = paint[:, ~touched]
-        new_wet[~touched] = wet[~touched]
+        untouched = ~touched
+        np.copyto(new_paint, paint, where=untouched[None])  # no gather/scatter of a mask index
+        np.copyto(new_wet, wet, where=untouched)
         canvas.write_region(box[0], box[1], new_paint, np.clip(new_wet, 0.0, 1.0))
 
 
