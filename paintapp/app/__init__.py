@@ -4,8 +4,8 @@ Modules, one job each:
 
 - :mod:`.launch` display check, Qt/OpenGL set-up, recovery on start, the window;
 - :mod:`.window` the main window: menus, shortcuts, timers (the render loop), glue;
-- :mod:`.canvas_widget` the OpenGL canvas and its tablet/mouse events; :mod:`.input` turns them
-  into stylus samples;
+- :mod:`.canvas_widget` the canvas (drawn offscreen with OpenGL, shown as an image) and its
+  tablet/mouse events; :mod:`.input` turns them into stylus samples;
 - :mod:`.worker` the simulation thread; :mod:`.actions` the commands it runs for the controls;
 - :mod:`.haptic_link` the device and the 1 kHz servo thread;
 - :mod:`.shared` what the threads exchange; :mod:`.history` undo/redo; :mod:`.journal` the stroke

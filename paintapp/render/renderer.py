@@ -10,11 +10,11 @@ and headless export::
 
     rgba = renderer.render_linear_rgba(canvas)   # (H, W, 4) float32, row 0 = canvas bottom
 
-A window that redraws every frame uses :meth:`CanvasRenderer.render_cached`: the Kubelka-Munk
-mixing and the lighting run once per canvas texel into a cached picture, again only where the
-canvas changed (and everywhere when the pigments, the lighting or the canvas size change), and a
-frame samples that picture: a blit per frame instead of the spectral mixing of every window pixel,
-which on a software rasterizer took the whole CPU.
+:meth:`CanvasRenderer.render_cached` runs the Kubelka-Munk mixing and the lighting once per
+canvas texel into a cached picture, again only where the canvas changed (and everywhere when the
+pigments, the lighting or the canvas size change), and samples that picture: cheaper than
+:meth:`CanvasRenderer.render` wherever a texel covers more than one output pixel. Both draw only
+inside the context's scissor box, which is how the painting window redraws just what changed.
 
 Output is linear scene-referred RGB with sRGB/Rec.709 primaries under D65 (see
 :mod:`paintapp.pigments.spectra`); alpha is 1 on the canvas.
