@@ -5,10 +5,14 @@ green, a thick red impasto stroke, white dragged through wet paint, and a clean 
 dragged through the impasto) through the painting session and the 1 kHz servo loop, then writes
 into DIR (default ``paintapp-demo/``): ``canvas.exr`` (the painted canvas with its paint layers),
 ``preview.png``, ``forces.csv`` (the force trace written to the device, one row per servo tick)
-and ``forces.png`` (a plot of it). ``--fidelity``, ``--explain`` and ``--device`` work as for
-``paintapp replay``. ``--canvas-size`` (a paper size such as ``a4``, or ``WxH`` mm) and
-``--texel-mm`` paint the same strokes (in metres, from the lower-left corner) on another canvas;
-by default the demo's own, 12 x 12 cm at 0.25 mm texels.
+and ``forces.png`` (a plot of it), and ``strokes.jsonl`` (the strokes as painted, on that
+canvas). ``--fidelity``, ``--explain`` and ``--device`` work as for ``paintapp replay``.
+
+The demo paints on an artist's sheet: A4 portrait at 0.1 mm texels (2100 x 2970), its strokes
+(written for a 12 x 12 cm canvas) centred on it. ``--canvas-size`` (a paper size such as ``a5``,
+``WxH`` mm, or ``own`` for the stroke file's canvas) and ``--texel-mm`` choose another; a file
+given with ``--strokes`` is painted on its own canvas unless ``--canvas-size`` says otherwise.
+Strokes are centred on a larger canvas and kept at its lower-left corner on a smaller one.
 """
 
 from __future__ import annotations
@@ -25,7 +29,10 @@ if TYPE_CHECKING:
     from paintapp.strokes.files import StrokeFile
 
 DEMO_STROKES = ("strokes", "demo.jsonl")
-OUTPUT_NAMES = ("canvas.exr", "preview.png", "forces.csv", "forces.png")
+OUTPUT_NAMES = ("canvas.exr", "preview.png", "forces.csv", "forces.png", "strokes.jsonl")
+#: The demo's sheet unless ``--canvas-size`` names another; ``own`` keeps the file's canvas.
+DEMO_SHEET = "a4"
+OWN_CANVAS = "own"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -42,8 +49,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--canvas-size",
-        metavar="a4|a5|a6[-landscape]|WxH",
-        help="paint on a canvas of this size instead of the file's (paper size or WxH mm)",
+        metavar="a4|a5|a6[-landscape]|WxH|own",
+        help=f"paint on a canvas of this size (paper size, WxH mm, or {OWN_CANVAS!r}: the stroke "
+        f"file's own); default {DEMO_SHEET} for the demo, the file's own for --strokes",
     )
     parser.add_argument(
         "--texel-mm",
@@ -66,8 +74,9 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     source = args.strokes or asset_path(*DEMO_STROKES)
     strokes = read_strokes(source)
-    if args.canvas_size is not None:
-        strokes = on_canvas(strokes, args.canvas_size, args.texel_mm)
+    size = args.canvas_size or (OWN_CANVAS if args.strokes else DEMO_SHEET)
+    if size.strip().lower() != OWN_CANVAS:
+        strokes = on_canvas(strokes, size, args.texel_mm)
     out = args.out
     files = [("--out", out / name) for name in OUTPUT_NAMES]
     spec = strokes.header.canvas
@@ -85,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
         result.canvas, out / "canvas.exr", out / "preview.png", lit=not args.flat, half=args.half
     )
     write_forces_csv(out / "forces.csv", result.forces)
+    write_strokes(out / "strokes.jsonl", strokes)
     plot_forces(out / "forces.png", result.forces, f"force on the brush: {Path(source).name}")
     stats, forces = result.session.stats, result.forces
     peak = float(np.linalg.norm(forces[:, 1:4], axis=1).max()) if len(forces) else 0.0
@@ -99,10 +109,32 @@ def run(args: argparse.Namespace) -> int:
 
 
 def on_canvas(strokes: StrokeFile, size: str, texel_mm: float) -> StrokeFile:
-    """``strokes`` with its header's canvas replaced by one of ``size`` at ``texel_mm``."""
+    """``strokes`` moved onto a canvas of ``size`` at ``texel_mm``: its header's canvas replaced,
+    and every sample shifted so that the file's canvas sits at the centre of the new one (at its
+    lower-left corner along an axis where the new one is smaller)."""
+    import numpy as np
+
+    from brushes import StylusSample
     from paintapp.canvas.sizes import canvas_size
     from paintapp.strokes.records import CanvasSpec
 
     pixels, size_m = canvas_size(size, texel_mm)
+    old = strokes.header.canvas.size_m
+    shift = np.array([max(0.0, 0.5 * (size_m[i] - old[i])) for i in (0, 1)] + [0.0])
     header = dataclasses.replace(strokes.header, canvas=CanvasSpec(pixels, size_m))
-    return dataclasses.replace(strokes, header=header)
+    records = [
+        dataclasses.replace(r, position_m=np.asarray(r.position_m, dtype=float) + shift)
+        if isinstance(r, StylusSample)
+        else r
+        for r in strokes.records
+    ]
+    return dataclasses.replace(strokes, header=header, records=tuple(records))
+
+
+def write_strokes(path: Path, strokes: StrokeFile) -> None:
+    """Write ``strokes`` (header and records) as a stroke file at ``path``, replacing it."""
+    from paintapp.strokes.recorder import StrokeRecorder
+
+    with StrokeRecorder(path, strokes.header, overwrite=True) as recorder:
+        for record in strokes.records:
+            recorder.write(record)

@@ -11,7 +11,8 @@ amount (the median of :data:`DEALS` deals), which no tooth survives: what the pa
 gives by chance.
 
 ``python -m paintapp.session.comb DIR [STROKES]`` prints both for every stroke of ``STROKES``
-(default: the bundled demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
+(default: ``DIR/strokes.jsonl``, the strokes as ``paintapp demo`` placed them, else the bundled
+demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
 """
 
 from __future__ import annotations
@@ -103,7 +104,9 @@ def main(argv: list[str]) -> int:
     from paintapp.strokes.files import read_strokes
 
     folder = Path(argv[0]) if argv else Path("paintapp-demo")
-    source = Path(argv[1]) if len(argv) > 1 else asset_path("strokes", "demo.jsonl")
+    painted = folder / "strokes.jsonl"  # the strokes as the demo placed them on its canvas
+    default = painted if painted.is_file() else asset_path("strokes", "demo.jsonl")
+    source = Path(argv[1]) if len(argv) > 1 else default
     try:
         canvas = read_canvas_exr(folder / "canvas.exr")
         strokes = read_strokes(source)

@@ -40,11 +40,39 @@ def test_demo_has_several_brushes_and_pigments():
     assert sum(isinstance(r, StylusSample) for r in strokes.records) > 300
 
 
+def test_the_demo_strokes_are_centred_on_a_larger_sheet_and_kept_on_a_smaller_one():
+    from paintapp.commands.demo import on_canvas
+
+    strokes = read_strokes(DEMO)
+    own = strokes.header.canvas.size_m
+    placed = on_canvas(strokes, "a4", 0.1)
+    assert placed.header.canvas.pixels == (2100, 2970)
+    assert len(placed.records) == len(strokes.records) and placed.events == strokes.events
+    shifts = np.array(
+        [b.position_m - a.position_m for a, b in zip(strokes.samples, placed.samples, strict=True)]
+    )
+    expected = [(0.210 - own[0]) / 2, (0.297 - own[1]) / 2, 0.0]
+    assert np.allclose(shifts, expected, atol=1e-12)
+    for a, b in zip(strokes.samples, placed.samples, strict=True):
+        assert (a.t_s, a.pressure) == (b.t_s, b.pressure)
+    small = on_canvas(strokes, "100x200", 0.25)  # narrower than the file's: kept at x = 0
+    assert np.allclose(small.samples[5].position_m - strokes.samples[5].position_m,
+                       [0.0, (0.2 - own[1]) / 2, 0.0], atol=1e-12)  # fmt: skip
+
+
 @pytest.mark.slow
 def test_demo_paints_mixes_and_records_forces(tmp_path):
     out = tmp_path / "demo"
     assert main(["demo", "--out", str(out), "--flat"]) == 0
     canvas = read_canvas_exr(out / "canvas.exr")
+    assert canvas.pixels == (2100, 2970)  # an A4 sheet at 0.1 mm
+    painted = read_strokes(out / "strokes.jsonl")
+    assert painted.header.canvas.pixels == canvas.pixels
+    ys, xs = np.nonzero(canvas.height_m > 0.0)
+    dx = canvas.texel_size_m[0]
+    # the paint lies round the sheet's centre, where the strokes were moved
+    assert abs(0.5 * (xs.min() + xs.max()) * dx - 0.105) < 0.03
+    assert abs(0.5 * (ys.min() + ys.max()) * dx - 0.1485) < 0.03
     conc = canvas.concentration
     blue, yellow = canvas.pigment_index("ultramarine_blue"), canvas.pigment_index("cadmium_yellow")
     assert np.count_nonzero((conc[blue] > 0.2) & (conc[yellow] > 0.2)) > 1000  # they mixed
