@@ -39,7 +39,7 @@ from paintapp.app.input import (
     pen_from_tablet,
 )
 from paintapp.app.shared import RateMeter, SharedCanvas, WorkerStatus
-from paintapp.canvas.regions import Box
+from paintapp.canvas.regions import Box, union_box
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import BrushOutline, CanvasRenderer, ForceArrow, Lighting
 from paintapp.render.context import create_headless_context
@@ -161,10 +161,10 @@ class CanvasWidget(QWidget):
                 self._drawn = key
             else:
                 moved = (outlines, arrows) != self._overlays_drawn
-                box = _union(self._overlay_box, overlay_box) if moved else None
-                changed = _union(self._pending, uploaded)
+                box = union_box(self._overlay_box, overlay_box) if moved else None
+                changed = union_box(self._pending, uploaded)
                 if changed is not None:
-                    box = _union(box, _texel_box_px(changed, texel_m, mapping, ratio, size))
+                    box = union_box(box, _texel_box_px(changed, texel_m, mapping, ratio, size))
             self._overlay_box = overlay_box
             self._overlays_drawn = (outlines, arrows)
             self._pending = None
@@ -341,17 +341,9 @@ class CanvasWidget(QWidget):
         with self.ctx:
             with self.shared.lock:
                 uploaded = self.renderer.update(self.shared.canvas)
-            self._pending = _union(self._pending, uploaded)  # the next frame shows it
+            self._pending = union_box(self._pending, uploaded)  # the next frame shows it
             self.renderer.render()
             return self.renderer.read_linear_rgba()
-
-
-def _union(a: Box | None, b: Box | None) -> Box | None:
-    if a is None:
-        return b
-    if b is None:
-        return a
-    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
 def _metres_box_px(

@@ -102,7 +102,7 @@ class HudOverlay(QWidget):
         self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground, True)
         self.setGeometry(parent.rect())
         self._panel = QRect()  # what the last paint covered (empty: nothing yet)
-        self._grid = QRect()  # where the grid outline was last drawn
+        self._grid = QRect()  # where the grid outline was drawn since the last refresh
 
     def paintEvent(self, event) -> None:
         # The canvas beneath repaints its changed rectangles every frame, and Qt repaints this
@@ -112,7 +112,8 @@ class HudOverlay(QWidget):
         grid = self._grid_rect(status)
         draw_grid = not grid.isEmpty() and area.intersects(grid)
         draw_text = self.show_text and (self._panel.isEmpty() or area.intersects(self._panel))
-        self._grid = grid
+        if draw_grid:
+            self._grid = self._grid.united(grid)
         if not (draw_grid or draw_text):
             return
         painter = QPainter(self)
@@ -127,20 +128,22 @@ class HudOverlay(QWidget):
                 self.update(panel)  # the panel grew past what was repainted
             self._panel = panel
         painter.end()
-        if not self.show_text:
-            self._panel = QRect()
 
     def refresh(self) -> None:
-        """Repaint what the HUD covers: its panel (with room to grow) and the grid outline,
-        where it was and where it is now."""
+        """Repaint what the HUD covers: its panel (with room to grow; once more after it was
+        turned off) and the grid outline, where it was drawn and where it is now."""
         if self.show_text and self._panel.isEmpty():
             self.update()
             return
-        if self.show_text:
-            self.update(self._panel.adjusted(0, 0, PANEL_SLACK_PX, PANEL_SLACK_PX))
-        for grid in (self._grid, self._grid_rect(self.status())):
-            if not grid.isEmpty():
-                self.update(grid)
+        panel = QRect()
+        if not self._panel.isEmpty():
+            panel = self._panel.adjusted(0, 0, PANEL_SLACK_PX, PANEL_SLACK_PX)
+        if not self.show_text:
+            self._panel = QRect()
+        grid, self._grid = self._grid.united(self._grid_rect(self.status())), QRect()
+        for area in (panel, grid):
+            if not area.isEmpty():
+                self.update(area)
 
     def _grid_rect(self, status: WorkerStatus) -> QRect:
         """Where the grid outline is drawn (empty when it is not shown)."""

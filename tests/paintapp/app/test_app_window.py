@@ -94,7 +94,7 @@ def test_stroke_paints_journals_undoes_and_shows(window, pump, stroke, tmp_path)
     assert colour.blue() > colour.red() + 40, f"no blue paint on screen: {colour.name()}"
     hud_box = _region(shot, origin.x() + 10, origin.y() + 10, 220, 90)
     win.hud.show_text = False
-    win.hud.update()
+    win.hud.refresh()  # what the render loop calls: the panel is erased
     pump(0.2)
     bare = _region(win.grab().toImage(), origin.x() + 10, origin.y() + 10, 220, 90)
     assert np.mean(np.abs(hud_box - bare)) > 10, "the HUD is not on screen"
