@@ -316,3 +316,33 @@ def test_the_hud_outlines_the_paint_grid_on_request(window, pump, pen):
     finally:
         pen(win, "release", START_M)
         pump(0.2)
+
+
+def test_without_opengl_the_window_says_so_and_keeps_painting(
+    qapp, pump, stroke, tmp_path, monkeypatch
+):
+    """No EGL on the machine: the canvas shows why instead of a picture, and the brush still
+    paints (and the canvas can still be saved, without a lit picture)."""
+    from paintapp.app import canvas_widget
+    from paintapp.app.launch import create_window
+    from paintapp.render import RenderUnavailable
+
+    def no_gl():
+        raise RenderUnavailable("cannot create a headless EGL OpenGL context: no display")
+
+    monkeypatch.setattr(canvas_widget, "create_headless_context", no_gl)
+    _, win = create_window(_options(tmp_path, **FAST_CANVAS), interactive=False)
+    try:
+        pump(0.5)
+        widget = win.canvas_widget
+        assert widget.gl_error is not None and "OpenGL unavailable" in widget.gl_error
+        assert widget.render_picture() is None
+        shot = win.grab().toImage()  # paints the message, no exception
+        assert shot.width() > 0
+        win.load_pigment("ultramarine_blue")
+        stroke(win, START_M, END_M)
+        _idle(win, pump, 1)
+        assert _paint(win).max() > 1e-6
+    finally:
+        win.close()
+        pump(0.1)
