@@ -42,8 +42,9 @@ from paintapp.app.shared import RateMeter, SharedCanvas, WorkerStatus
 from paintapp.canvas.regions import Box, union_box
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render import BrushOutline, CanvasRenderer, ForceArrow, Lighting
-from paintapp.render.context import create_headless_context
+from paintapp.render.context import RenderUnavailable, create_headless_context
 from paintapp.render.finish import gl_finish
+from paintapp.render.headless import render_canvas_rgba
 from paintapp.render.overlays import arrow_triangles, outline_triangles
 
 #: Force arrow length on the canvas per newton of (unscaled) fluid force, in canvas widths
@@ -51,6 +52,8 @@ from paintapp.render.overlays import arrow_triangles, outline_triangles
 ARROW_WIDTH_PER_N = 10.0
 #: Pixels added around a changed rectangle (filtering, line widths, rounding), device pixels.
 PAD_PX = 3
+#: Coarsest texture reduction for a minified view (canvas texels per texture texel, a side).
+MAX_REDUCTION = 8
 #: RGBA bytes to the byte order of ``QImage.Format_RGB32``.
 BGRA = [2, 1, 0, 3]
 #: Colour of the widget while no picture exists (no GL, or before the first frame).
@@ -98,7 +101,6 @@ class CanvasWidget(QWidget):
         self._drawn: tuple | None = None  # what the whole picture was last drawn for
         self._overlay_box: Box | None = None  # device pixels, y down
         self._overlays_drawn: tuple[list, list] = ([], [])
-        self._pending: Box | None = None  # texels uploaded outside the render loop
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setAttribute(Qt.WidgetAttribute.WA_TabletTracking, True)
@@ -140,10 +142,12 @@ class CanvasWidget(QWidget):
         renderer = self.renderer
         renderer.lighting = self.lighting
         size = self._device_size()
-        if self._up_to_date(size):
+        key = self._view_key(size)
+        if self._up_to_date(key):
             self.frames.tick()
             self.frame_count += 1
             return
+        renderer.reduction = key[3]
         with self.ctx:
             with self.shared.lock:
                 table = renderer.table
@@ -154,7 +158,6 @@ class CanvasWidget(QWidget):
             ratio = size[0] / max(1, self.width())
             outlines, arrows = self._overlays(size_m)
             overlay_box = self._overlay_extent(outlines, arrows, mapping, ratio, size)
-            key = (size, size_m, self.lighting)
             if key != self._drawn or renderer.table is not table or self._fbo is None:
                 box: Box | None = (0, 0, *size)
                 self._resize_target(size)
@@ -162,27 +165,39 @@ class CanvasWidget(QWidget):
             else:
                 moved = (outlines, arrows) != self._overlays_drawn
                 box = union_box(self._overlay_box, overlay_box) if moved else None
-                changed = union_box(self._pending, uploaded)
-                if changed is not None:
-                    box = union_box(box, _texel_box_px(changed, texel_m, mapping, ratio, size))
+                if uploaded is not None:
+                    # the lighting's slopes and the filtering reach two texture texels round
+                    grow = 2 * renderer.reduction
+                    changed = _texel_box_px(uploaded, texel_m, grow, mapping, ratio, size)
+                    box = union_box(box, changed)
             self._overlay_box = overlay_box
             self._overlays_drawn = (outlines, arrows)
-            self._pending = None
             if box is not None:
-                cached = mapping.metres_per_px < min(texel_m) * ratio  # magnified
+                # magnified: a texture texel covers more than a pixel
+                cached = mapping.metres_per_px < min(texel_m) * renderer.reduction * ratio
                 self._draw(box, size, mapping, outlines, arrows, cached)
                 self.drawn_count += 1
         self.frames.tick()
         self.frame_count += 1
 
-    def _up_to_date(self, size: tuple[int, int]) -> bool:
+    def _view_key(self, size: tuple[int, int]) -> tuple:
+        """What the whole picture depends on: its size, the canvas's, the light, and the
+        texture reduction (the largest power of two, at most :data:`MAX_REDUCTION`, of canvas
+        texels per device pixel)."""
+        canvas = self.shared.canvas
+        per_pixel = ViewMapping(canvas.size_m, (self.width(), self.height())).metres_per_px
+        texels = per_pixel * self.width() / size[0] / min(canvas.texel_size_m)
+        reduction = 1
+        while reduction < MAX_REDUCTION and 2 * reduction <= texels:
+            reduction *= 2
+        return size, canvas.size_m, self.lighting, reduction
+
+    def _up_to_date(self, key: tuple) -> bool:
         """Whether the picture already shows the canvas, the light and the overlays of now."""
         assert self.renderer is not None
-        if self._drawn != (size, self.shared.canvas.size_m, self.lighting):
+        if self._drawn != key:
             return False
-        if self._pending is not None or self._overlays(self.shared.canvas.size_m) != (
-            self._overlays_drawn
-        ):
+        if self._overlays(self.shared.canvas.size_m) != self._overlays_drawn:
             return False
         table = self.renderer.table
         with self.shared.lock:
@@ -334,16 +349,15 @@ class CanvasWidget(QWidget):
     # --- pictures ------------------------------------------------------------------------------
     def render_picture(self):
         """The lit canvas at one pixel per texel, linear RGBA (H, W, 4), row 0 = bottom; None
-        without OpenGL."""
+        without OpenGL. Drawn from a copy of the display canvas at full resolution in a context
+        of its own (the widget's textures may be reduced)."""
         if not self._start_gl():
             return None
-        assert self.ctx is not None and self.renderer is not None
-        with self.ctx:
-            with self.shared.lock:
-                uploaded = self.renderer.update(self.shared.canvas)
-            self._pending = union_box(self._pending, uploaded)  # the next frame shows it
-            self.renderer.render()
-            return self.renderer.read_linear_rgba()
+        canvas, _ = self.shared.snapshot()
+        try:
+            return render_canvas_rgba(canvas, self.library, self.lighting)
+        except RenderUnavailable:
+            return None
 
 
 def _metres_box_px(
@@ -365,12 +379,12 @@ def _metres_box_px(
 
 
 def _texel_box_px(
-    box: Box, texel_m: tuple[float, float], mapping: ViewMapping, ratio: float, size
+    box: Box, texel_m: tuple[float, float], grow: int, mapping: ViewMapping, ratio: float, size
 ) -> Box | None:
-    """Device-pixel box of a texel box, grown by a texel for the lighting's slopes."""
+    """Device-pixel box of a canvas texel box grown by ``grow`` texels each way."""
     dx, dy = texel_m
     x0, y0, x1, y1 = box
-    box_m = ((x0 - 1) * dx, (y0 - 1) * dy, (x1 + 1) * dx, (y1 + 1) * dy)
+    box_m = ((x0 - grow) * dx, (y0 - grow) * dy, (x1 + grow) * dx, (y1 + grow) * dy)
     return _metres_box_px(box_m, mapping, ratio, size)
 
 

@@ -63,6 +63,10 @@ class CanvasRenderer:
         if self.bands.count % 4:
             raise ValueError(f"the shader needs a multiple of 4 bands, got {self.bands.count}")
         self.lighting = lighting or Lighting()
+        #: Draw from textures averaged over ``reduction`` x ``reduction`` canvas texels (a view
+        #: that shows several texels per pixel needs no more); 1 draws every texel. A change
+        #: rebuilds the textures at the next :meth:`update`.
+        self.reduction = 1
         self.table: BandTable | None = None
         self._textures: CanvasTextures | None = None
         self._canvas_size_m = (1.0, 1.0)
@@ -92,7 +96,7 @@ class CanvasRenderer:
         return self._programs[layers]
 
     def update(self, canvas: Canvas) -> Box | None:
-        """Bring the GPU copy up to date with ``canvas``; returns the texel box uploaded.
+        """Bring the GPU copy up to date with ``canvas``; returns the canvas texel box uploaded.
 
         Only the canvas's dirty region is sent (``canvas.take_dirty()``). A new pigment appended
         to the canvas costs nothing more while it fits the existing texture layers (its channel
@@ -105,20 +109,24 @@ class CanvasRenderer:
             self.table = band_table(self.library.require(names), self.bands)
             if not appended:
                 canvas.mark_all_dirty()
-        if self._textures is None or not self._textures.fits(canvas):
-            if self._textures is not None:
-                self._textures.release()
-            self._textures = CanvasTextures(self.ctx, canvas.pixels, len(names))
+        textures = self._textures
+        if textures is None or not textures.fits(canvas, self.reduction):
+            if textures is not None:
+                textures.release()
+            textures = CanvasTextures(self.ctx, canvas.pixels, len(names), self.reduction)
+            self._textures = textures
             canvas.mark_all_dirty()
-        self._textures.pigment_count = len(names)
+        textures.pigment_count = len(names)
         self._canvas_size_m = canvas.size_m
-        self._texel_m = canvas.texel_size_m
+        # the textures' own texel (the lighting's slopes are taken over it)
+        (w_m, h_m), (w, h) = canvas.size_m, textures.pixels
+        self._texel_m = (w_m / w, h_m / h)
         box = canvas.take_dirty()
         if box is not None:
-            self._textures.upload(canvas, box)
+            textures.upload(canvas, box)
             # the lighting reads the height one texel either side
-            x0, y0, x1, y1 = box
-            grown = clip_box((x0 - 1, y0 - 1, x1 + 1, y1 + 1), canvas.pixels)
+            x0, y0, x1, y1 = textures.coarse(box)
+            grown = clip_box((x0 - 1, y0 - 1, x1 + 1, y1 + 1), textures.pixels)
             self._stale = union_box(self._stale, grown)
         return box
 

@@ -34,10 +34,22 @@ def layer_count(pigment_count: int) -> int:
 
 
 class CanvasTextures:
-    """GPU textures mirroring one canvas size and pigment count."""
+    """GPU textures mirroring one canvas size and pigment count, at full resolution or averaged
+    over ``reduction`` x ``reduction`` texel blocks (a coarser copy to draw minified views from:
+    a fraction of the upload work, and no aliasing of detail finer than a pixel)."""
 
-    def __init__(self, ctx: moderngl.Context, pixels: tuple[int, int], pigment_count: int) -> None:
-        w, h = pixels
+    def __init__(
+        self,
+        ctx: moderngl.Context,
+        pixels: tuple[int, int],
+        pigment_count: int,
+        reduction: int = 1,
+    ) -> None:
+        if reduction < 1:
+            raise ValueError(f"the reduction must be a positive integer, got {reduction}")
+        self.canvas_pixels = (int(pixels[0]), int(pixels[1]))
+        self.reduction = int(reduction)
+        w, h = (-(-n // self.reduction) for n in self.canvas_pixels)
         self.pixels = (w, h)
         self.pigment_count = pigment_count
         self.layers = layer_count(pigment_count)
@@ -48,21 +60,30 @@ class CanvasTextures:
             texture.repeat_x = False
             texture.repeat_y = False
 
-    def fits(self, canvas: Canvas) -> bool:
-        """Whether these textures can hold ``canvas`` (same size, enough layers)."""
+    def fits(self, canvas: Canvas, reduction: int = 1) -> bool:
+        """Whether these textures can hold ``canvas`` (same size, enough layers) reduced so."""
         return (
-            self.pixels == canvas.pixels and layer_count(len(canvas.pigment_names)) == self.layers
+            self.canvas_pixels == canvas.pixels
+            and self.reduction == reduction
+            and layer_count(len(canvas.pigment_names)) == self.layers
         )
 
-    def upload(self, canvas: Canvas, box: Box) -> None:
-        """Copy the texels of ``box`` (x0, y0, x1, y1) from the canvas to the GPU."""
+    def coarse(self, box: Box) -> Box:
+        """The texture texels holding canvas texel box ``box``."""
+        f = self.reduction
         x0, y0, x1, y1 = box
+        return x0 // f, y0 // f, -(-x1 // f), -(-y1 // f)
+
+    def upload(self, canvas: Canvas, box: Box) -> None:
+        """Copy the texels of ``box`` (x0, y0, x1, y1, canvas texels) from the canvas to the GPU."""
+        target = self.coarse(box)
+        x0, y0, x1, y1 = target
         if (x1 - x0) * (y1 - y0) >= ZERO_FILL_TEXELS:
-            self._zero(box)
+            self._zero(target)
             content = content_box(canvas, box)
             if content is None:
                 return
-            x0, y0, x1, y1 = content
+            x0, y0, x1, y1 = self.coarse(content)
         rows = max(1, STRIP_TEXELS // max(1, x1 - x0))
         for r0 in range(y0, y1, rows):
             self._upload_strip(canvas, (x0, r0, x1, min(y1, r0 + rows)))
@@ -79,11 +100,12 @@ class CanvasTextures:
             self.surface.write(np.zeros((h, w, 2), np.float32), viewport=(x0, r0, w, h))
 
     def _upload_strip(self, canvas: Canvas, box: Box) -> None:
+        """Upload texture texels ``box`` (their averages over the canvas's texels)."""
         x0, y0, x1, y1 = box
         w, h = x1 - x0, y1 - y0
         conc = np.empty((self.layers, h, w, 4), np.float32)
         surface = np.empty((h, w, 2), np.float32)
-        pack_region(canvas.paint_m, canvas.wetness, x0, y0, conc, surface)
+        pack_region(canvas.paint_m, canvas.wetness, self.reduction, x0, y0, conc, surface)
         halves = np.empty(conc.shape, np.uint16)  # the half floats' bits
         half_bits(conc.reshape(-1).view(np.uint32), halves.reshape(-1))
         self.concentration.write(halves, viewport=(x0, y0, 0, w, h, self.layers))
@@ -136,30 +158,55 @@ def half_bits(bits: np.ndarray, out: np.ndarray) -> None:
 def pack_region(
     paint: np.ndarray,
     wetness: np.ndarray,
+    reduction: int,
     x0: int,
     y0: int,
     conc: np.ndarray,
     surface: np.ndarray,
 ) -> None:
-    """One pass over the texels of a box from (``x0``, ``y0``): ``conc`` (layers, h, w, 4) gets
-    each pigment's volume fraction (``paint / total`` in float32, 0 where there is no paint;
-    channels past the pigments 0), ``surface`` (h, w, 2) the paint height (the float32 sum over
-    the pigments) and the wetness. The same values as :meth:`Canvas.concentration_region` and
-    ``paint.sum(axis=0, dtype=float32)``, without their temporaries."""
+    """One pass over the texture texels of a box from (``x0``, ``y0``): ``conc`` (layers, h, w,
+    4) gets each pigment's volume fraction (``paint / total`` in float32, 0 where there is no
+    paint; channels past the pigments 0), ``surface`` (h, w, 2) the paint height (the float32
+    sum over the pigments) and the wetness. With ``reduction`` 1 a texture texel is a canvas
+    texel: the same values as :meth:`Canvas.concentration_region` and ``paint.sum(axis=0,
+    dtype=float32)``, without their temporaries. With ``reduction`` f it is the mean of an
+    f x f block of canvas texels (fewer at the canvas's far edges): each pigment's paint and the
+    wetness averaged, and the fractions and height taken from those means."""
     pigments = paint.shape[0]
     channels = conc.shape[0] * 4
+    height, width = wetness.shape
     zero = np.float32(0.0)
+    means = np.zeros(max(pigments, 1), np.float32)
     for y in range(conc.shape[1]):
         for x in range(conc.shape[2]):
+            if reduction == 1:
+                for p in range(pigments):
+                    means[p] = paint[p, y0 + y, x0 + x]
+                wet = wetness[y0 + y, x0 + x]
+            else:
+                ty0, tx0 = (y0 + y) * reduction, (x0 + x) * reduction
+                ty1, tx1 = min(ty0 + reduction, height), min(tx0 + reduction, width)
+                count = max((ty1 - ty0) * (tx1 - tx0), 1)
+                for p in range(pigments):
+                    acc = 0.0
+                    for ty in range(ty0, ty1):
+                        for tx in range(tx0, tx1):
+                            acc += paint[p, ty, tx]
+                    means[p] = np.float32(acc / count)
+                acc = 0.0
+                for ty in range(ty0, ty1):
+                    for tx in range(tx0, tx1):
+                        acc += wetness[ty, tx]
+                wet = np.float32(acc / count)
             total = zero
             for p in range(pigments):
-                total += paint[p, y0 + y, x0 + x]
+                total += means[p]
             surface[y, x, 0] = total
-            surface[y, x, 1] = wetness[y0 + y, x0 + x]
+            surface[y, x, 1] = wet
             for q in range(channels):
                 value = zero
                 if q < pigments and total > zero:
-                    value = paint[q, y0 + y, x0 + x] / total
+                    value = means[q] / total
                 conc[q // 4, y, x, q % 4] = value
 
 

@@ -255,14 +255,19 @@ def test_servo_process_steers_the_brush_and_its_death_is_survived(qapp, pump, st
         pump(0.1)
 
 
-@pytest.mark.parametrize("window_px", [(1180, 760), (560, 420)], ids=["magnified", "minified"])
+@pytest.mark.parametrize(
+    ("window_px", "reduction"),
+    [((1180, 760), 1), ((900, 620), 1), ((400, 300), 2)],
+    ids=["magnified", "minified", "reduced"],
+)
 def test_the_canvas_redraws_only_what_changed_and_matches_a_full_redraw(
-    window, pump, stroke, window_px
+    window, pump, stroke, window_px, reduction
 ):
     """The widget redraws only the rectangles that changed (paint, brush outline, force arrow);
     what it shows then equals a redraw of everything. A 720x480 canvas in the default window
-    shows each texel on more than one pixel (the cached picture path), in a small window on
-    less than one (the per-pixel path)."""
+    shows each texel on more than one pixel (the cached picture path), in a smaller window on
+    less than one (the per-pixel path), in a small one on less than half (drawn from textures
+    averaged over 2 x 2 texels)."""
     win, widget = window, window.canvas_widget
     win.resize(*window_px)
     assert pump(5.0, lambda: widget.size().width() < window_px[0])
@@ -270,6 +275,7 @@ def test_the_canvas_redraws_only_what_changed_and_matches_a_full_redraw(
     texel_m = win.shared.canvas.texel_size_m[0]
     magnified = widget.mapping().metres_per_px < texel_m
     assert magnified == (window_px[0] > 1000)
+    assert widget.renderer.reduction == reduction
     drawn = widget.drawn_count
     pump(0.3)
     assert widget.drawn_count == drawn, "an idle canvas was redrawn"

@@ -372,7 +372,7 @@ def test_packing_a_region_gives_the_canvas_concentrations_and_height_exactly():
     layers = layer_count(len(canvas.pigment_names))
     conc = np.full((layers, y1 - y0, x1 - x0, 4), np.nan, np.float32)
     surface = np.full((y1 - y0, x1 - x0, 2), np.nan, np.float32)
-    pack_region(canvas.paint_m, canvas.wetness, x0, y0, conc, surface)
+    pack_region(canvas.paint_m, canvas.wetness, 1, x0, y0, conc, surface)
     expected = np.zeros((4 * layers, y1 - y0, x1 - x0), np.float32)
     expected[: len(canvas.pigment_names)] = canvas.concentration_region(box)
     got = conc.transpose(0, 3, 1, 2).reshape(4 * layers, y1 - y0, x1 - x0)
@@ -380,3 +380,48 @@ def test_packing_a_region_gives_the_canvas_concentrations_and_height_exactly():
     height = canvas.paint_m[:, y0:y1, x0:x1].sum(axis=0, dtype=np.float32)
     assert np.array_equal(surface[..., 0], height)
     assert np.array_equal(surface[..., 1], canvas.wetness[y0:y1, x0:x1])
+
+
+def test_reduced_textures_hold_the_block_means_of_the_canvas():
+    """A reduction f packs each f x f block (fewer texels at the far edges) as one texel: the
+    pigments' and the wetness's means, and fractions and height from those means."""
+    from paintapp.render.textures import layer_count, pack_region
+
+    rng = np.random.default_rng(11)
+    canvas = known_canvas(37, 22)  # not a multiple of the block at either edge
+    canvas.paint_m[:] *= rng.uniform(0.0, 2.0, canvas.paint_m.shape).astype(np.float32)
+    canvas.wetness[:] = rng.uniform(0.0, 1.0, canvas.wetness.shape).astype(np.float32)
+    f, layers = 4, layer_count(len(canvas.pigment_names))
+    w, h = -(-37 // f), -(-22 // f)
+    conc = np.zeros((layers, h, w, 4), np.float32)
+    surface = np.zeros((h, w, 2), np.float32)
+    pack_region(canvas.paint_m, canvas.wetness, f, 0, 0, conc, surface)
+    for j, i in ((0, 0), (2, 3), (h - 1, w - 1), (h - 1, 0)):
+        block = (slice(j * f, (j + 1) * f), slice(i * f, (i + 1) * f))
+        means = canvas.paint_m[(slice(None), *block)].astype(np.float64).mean(axis=(1, 2))
+        total = means.sum()
+        np.testing.assert_allclose(surface[j, i, 0], total, rtol=1e-6)
+        np.testing.assert_allclose(surface[j, i, 1], canvas.wetness[block].mean(), rtol=1e-6)
+        got = conc.transpose(0, 3, 1, 2).reshape(4 * layers, h, w)[: len(means), j, i]
+        np.testing.assert_allclose(got, means / total, rtol=1e-5)
+
+
+def test_a_reduced_renderer_draws_a_blocky_canvas_as_the_full_one_does(ctx, library):
+    """Paint uniform over 4 x 4 blocks: drawn from textures reduced 4 times, at one pixel per
+    block, the picture is the full-resolution one's."""
+    rng = np.random.default_rng(5)
+    blocks = known_canvas(12, 8)
+    blocks.paint_m[:] *= rng.uniform(0.5, 1.5, blocks.paint_m.shape).astype(np.float32)
+    canvas = Canvas((48, 32), (48 * TEXEL_M, 32 * TEXEL_M), blocks.pigment_names)
+    canvas.paint_m[:] = np.repeat(np.repeat(blocks.paint_m, 4, axis=1), 4, axis=2)
+    pictures = []
+    for reduction in (1, 4):
+        renderer = CanvasRenderer(ctx, library, lighting=UNLIT)
+        renderer.reduction = reduction
+        canvas.mark_all_dirty()
+        renderer.update(canvas)
+        renderer.render(size=(12, 8))
+        pictures.append(renderer.read_linear_rgba())
+        renderer.release()
+    np.testing.assert_allclose(pictures[1], pictures[0], rtol=2e-3, atol=1e-4)
+    assert_matches(pictures[1], reference(blocks, library))
