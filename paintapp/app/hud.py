@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRect, QRectF, Qt
-from PySide6.QtGui import QColor, QFont, QPainter, QPen
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QPainter, QPen
 from PySide6.QtWidgets import QWidget
 
 from paintapp.app.input import ViewMapping
@@ -103,6 +103,10 @@ class HudOverlay(QWidget):
         self.setGeometry(parent.rect())
         self._panel = QRect()  # what the last paint covered (empty: nothing yet)
         self._grid = QRect()  # where the grid outline was drawn since the last refresh
+        self._font = QFont("monospace")
+        self._font.setStyleHint(QFont.StyleHint.Monospace)
+        self._font.setPointSize(9)
+        self._metrics = QFontMetrics(self._font, self)
 
     def paintEvent(self, event) -> None:
         # The canvas beneath repaints its changed rectangles every frame, and Qt repaints this
@@ -161,16 +165,18 @@ class HudOverlay(QWidget):
         mapping = self.mapping()
         x0, y1 = mapping.to_widget(grid[0], grid[1])
         x1, y0 = mapping.to_widget(grid[2], grid[3])
-        painter.setPen(QPen(QColor(80, 220, 255, 220), 1.5, Qt.PenStyle.DashLine))
+        # An axis-aligned outline on whole pixels needs no antialiasing, which made Qt's dashed
+        # stroke the HUD's costliest call (it is redrawn with every canvas repaint beneath).
+        painter.save()
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, False)
+        painter.setPen(QPen(QColor(80, 220, 255, 220), 1, Qt.PenStyle.DashLine))
         painter.setBrush(Qt.BrushStyle.NoBrush)
-        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)))
+        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect())
+        painter.restore()
 
     def _draw_text(self, painter: QPainter, lines: list[str]) -> QRectF:
-        font = QFont("monospace")
-        font.setStyleHint(QFont.StyleHint.Monospace)
-        font.setPointSize(9)
-        painter.setFont(font)
-        metrics = painter.fontMetrics()
+        painter.setFont(self._font)
+        metrics = self._metrics
         height = metrics.height()
         width = max(metrics.horizontalAdvance(line) for line in lines) + 16
         box = QRectF(8, 8, width, height * len(lines) + 12)
