@@ -115,6 +115,7 @@ def replace_canvas(canvas: Canvas, note: str) -> Command:
         w.end_stroke()
         w.live = canvas
         canvas.take_dirty()
+        canvas.take_wet_dirty()
         w.history = UndoHistory(canvas, w.history.max_steps, w.history.max_bytes)
         w.shared.replace(copy_canvas(canvas))
         w.rebuild()

@@ -204,6 +204,7 @@ class CanvasWidget(QWidget):
             canvas = self.shared.canvas
             return (
                 canvas.peek_dirty() is None
+                and canvas.peek_wet_dirty() is None
                 and table is not None
                 and table.names == canvas.pigment_names
             )

@@ -57,6 +57,14 @@ class SharedCanvas:
             self.canvas.mark_dirty(*box)
             self.version += 1
 
+    def publish_wetness(self, live: Canvas, box: Box) -> None:
+        """Copy only the wetness in ``box`` of ``live`` (drying) and mark it wetness-dirty."""
+        x0, y0, x1, y1 = box
+        with self.lock:
+            self.canvas.wetness[y0:y1, x0:x1] = live.wetness[y0:y1, x0:x1]
+            self.canvas.mark_wet_dirty(*box)
+            self.version += 1
+
     def replace(self, canvas: Canvas) -> None:
         """Show another canvas (all of it is uploaded on the next frame)."""
         canvas.mark_all_dirty()

@@ -262,6 +262,9 @@ class SimulationWorker(threading.Thread):
             self._publish_status()
 
     def _sync_display(self) -> None:
+        wet = self.live.take_wet_dirty()  # drying: the wetness alone changed there
+        if wet is not None:
+            self.shared.publish_wetness(self.live, wet)
         box = self.live.take_dirty()
         if box is None:
             return

@@ -69,6 +69,7 @@ class Canvas:
     paint_m: np.ndarray = None  # type: ignore[assignment]
     wetness: np.ndarray = None  # type: ignore[assignment]
     _dirty: Box | None = field(default=None, init=False, repr=False)
+    _wet_dirty: Box | None = field(default=None, init=False, repr=False)
     _wet_box: Box | None = field(default=None, init=False, repr=False)
     _unshown_drying: float = field(default=1.0, init=False, repr=False)
     _pending_drying: float = field(default=1.0, init=False, repr=False)
@@ -233,8 +234,9 @@ class Canvas:
         Only the bounding box of possibly-wet texels is touched, and only once the decay gathered
         since the last pass reaches ``DRY_BATCH`` (0.5 %): the wetness lags its exact value by
         less than that (paint laid meanwhile dries as if laid at the last pass). The box is marked
-        dirty once the wetness has dropped by 2 % since it was last marked (and when it becomes
-        fully dry), so slow drying does not re-upload the wet area every frame.
+        wetness-dirty (:meth:`take_wet_dirty`: only the wetness changed there) once the wetness
+        has dropped by 2 % since it was last marked (and when it becomes fully dry), so slow
+        drying does not re-upload the wet area every frame, nor its paint ever.
         """
         if not (math.isfinite(dt_s) and math.isfinite(rate_per_s)) or dt_s < 0 or rate_per_s < 0:
             raise InputError(f"need finite dt_s >= 0 and rate >= 0, got {dt_s}, {rate_per_s}")
@@ -252,7 +254,7 @@ class Canvas:
         # Re-upload for the renderer only once wetness fell visibly (2 %) or the paint is dry.
         self._unshown_drying *= factor
         if all_dry or self._unshown_drying < 1.0 - DRY_UPLOAD_STEP:
-            self.mark_dirty(x0, y0, x1, y1)
+            self.mark_wet_dirty(x0, y0, x1, y1)
             self._unshown_drying = 1.0
         if all_dry:
             self._wet_box = None
@@ -277,6 +279,22 @@ class Canvas:
     def peek_dirty(self) -> Box | None:
         """The pending dirty box without clearing it."""
         return self._dirty
+
+    def mark_wet_dirty(self, x0: int, y0: int, x1: int, y1: int) -> None:
+        """Record that only the wetness changed in [x0, x1) x [y0, y1) (clipped; merged)."""
+        box = clip_box((int(x0), int(y0), int(x1), int(y1)), self.pixels)
+        if box is not None:
+            self._wet_dirty = union_box(self._wet_dirty, box)
+
+    def take_wet_dirty(self) -> Box | None:
+        """The box where only the wetness changed since the last call, or None; clears it (the
+        dirty box of :meth:`take_dirty` may overlap it)."""
+        box, self._wet_dirty = self._wet_dirty, None
+        return box
+
+    def peek_wet_dirty(self) -> Box | None:
+        """The pending wetness-only box without clearing it."""
+        return self._wet_dirty
 
 
 def _store(dst: np.ndarray, src: np.ndarray, lo: float, hi: float) -> int:

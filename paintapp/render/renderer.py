@@ -98,7 +98,8 @@ class CanvasRenderer:
     def update(self, canvas: Canvas) -> Box | None:
         """Bring the GPU copy up to date with ``canvas``; returns the canvas texel box uploaded.
 
-        Only the canvas's dirty region is sent (``canvas.take_dirty()``). A new pigment appended
+        Only the canvas's dirty region is sent (``canvas.take_dirty()``), and only the wetness
+        where nothing else changed (``canvas.take_wet_dirty()``: drying). A new pigment appended
         to the canvas costs nothing more while it fits the existing texture layers (its channel
         is zero everywhere); a new canvas size, a reordered pigment list or a fifth (ninth, ...)
         pigment rebuilds the textures and uploads everything.
@@ -124,11 +125,16 @@ class CanvasRenderer:
         box = canvas.take_dirty()
         if box is not None:
             textures.upload(canvas, box)
+        wet = canvas.take_wet_dirty()
+        if wet is not None:
+            textures.upload_wetness(canvas, wet)
+        changed = union_box(box, wet)
+        if changed is not None:
             # the lighting reads the height one texel either side
-            x0, y0, x1, y1 = textures.coarse(box)
+            x0, y0, x1, y1 = textures.coarse(changed)
             grown = clip_box((x0 - 1, y0 - 1, x1 + 1, y1 + 1), textures.pixels)
             self._stale = union_box(self._stale, grown)
-        return box
+        return changed
 
     def _set_uniforms(self, program: moderngl.Program, view: ViewRect) -> None:
         table = self.table

@@ -55,6 +55,8 @@ class CanvasTextures:
         self.layers = layer_count(pigment_count)
         self.concentration = ctx.texture_array((w, h, self.layers), 4, dtype="f2")
         self.surface = ctx.texture((w, h), 2, dtype="f4")
+        # what the surface texture holds, so that drying re-sends the wetness alone
+        self.surface_cpu = np.zeros((h, w, 2), np.float32)
         for texture in (self.concentration, self.surface):
             texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             texture.repeat_x = False
@@ -88,6 +90,14 @@ class CanvasTextures:
         for r0 in range(y0, y1, rows):
             self._upload_strip(canvas, (x0, r0, x1, min(y1, r0 + rows)))
 
+    def upload_wetness(self, canvas: Canvas, box: Box) -> None:
+        """Re-send the wetness of canvas texel box ``box``, whose paint did not change (drying):
+        one float per canvas texel read, instead of every pigment's paint."""
+        x0, y0, x1, y1 = self.coarse(box)
+        region = self.surface_cpu[y0:y1, x0:x1]
+        block_means(canvas.wetness, self.reduction, x0, y0, region[..., 1])
+        self.surface.write(np.ascontiguousarray(region), viewport=(x0, y0, x1 - x0, y1 - y0))
+
     def _zero(self, box: Box) -> None:
         """Write bare canvas (all zero) over ``box``, in strips."""
         x0, y0, x1, y1 = box
@@ -98,6 +108,7 @@ class CanvasTextures:
             conc = np.zeros((self.layers, h, w, 4), np.float16)
             self.concentration.write(conc, viewport=(x0, r0, 0, w, h, self.layers))
             self.surface.write(np.zeros((h, w, 2), np.float32), viewport=(x0, r0, w, h))
+            self.surface_cpu[r0 : r0 + h, x0:x1] = 0.0
 
     def _upload_strip(self, canvas: Canvas, box: Box) -> None:
         """Upload texture texels ``box`` (their averages over the canvas's texels)."""
@@ -110,6 +121,7 @@ class CanvasTextures:
         half_bits(conc.reshape(-1).view(np.uint32), halves.reshape(-1))
         self.concentration.write(halves, viewport=(x0, y0, 0, w, h, self.layers))
         self.surface.write(surface, viewport=(x0, y0, w, h))
+        self.surface_cpu[y0:y1, x0:x1] = surface
 
     def release(self) -> None:
         self.concentration.release()
@@ -208,6 +220,27 @@ def pack_region(
                 if q < pigments and total > zero:
                     value = means[q] / total
                 conc[q // 4, y, x, q % 4] = value
+
+
+@njit(cache=True, nogil=True)
+def block_means(values: np.ndarray, reduction: int, x0: int, y0: int, out: np.ndarray) -> None:
+    """``out`` (h, w) gets the means of ``values``'s ``reduction`` x ``reduction`` blocks from
+    block (``x0``, ``y0``) on (fewer texels at the far edges), summed in the order and precision
+    of :func:`pack_region`, so the two agree to the bit."""
+    height, width = values.shape
+    for y in range(out.shape[0]):
+        for x in range(out.shape[1]):
+            if reduction == 1:
+                out[y, x] = values[y0 + y, x0 + x]
+                continue
+            ty0, tx0 = (y0 + y) * reduction, (x0 + x) * reduction
+            ty1, tx1 = min(ty0 + reduction, height), min(tx0 + reduction, width)
+            count = max((ty1 - ty0) * (tx1 - tx0), 1)
+            acc = 0.0
+            for ty in range(ty0, ty1):
+                for tx in range(tx0, tx1):
+                    acc += values[ty, tx]
+            out[y, x] = np.float32(acc / count)
 
 
 def content_box(canvas: Canvas, box: Box) -> Box | None:

@@ -131,19 +131,20 @@ def test_drying_decays_wetness_exponentially_then_stops():
     canvas.take_dirty()
     canvas.dry(dt_s=1.0, rate_per_s=0.5)
     assert canvas.wetness[2, 2] == pytest.approx(math.exp(-0.5), rel=1e-6)
-    assert canvas.take_dirty() == (2, 2, 4, 4)  # only the wet area is re-uploaded
+    assert canvas.take_dirty() is None  # the paint did not change
+    assert canvas.take_wet_dirty() == (2, 2, 4, 4)  # only the wet area's wetness is re-uploaded
     canvas.dry(dt_s=0.01, rate_per_s=0.5)  # a 0.5 % drop: gathered, not yet applied or shown
-    assert canvas.take_dirty() is None
+    assert canvas.take_wet_dirty() is None
     assert canvas.wetness[2, 2] == pytest.approx(math.exp(-0.5), rel=1e-6)
     for _ in range(5):
         canvas.dry(dt_s=0.01, rate_per_s=0.5)
     exact = math.exp(-0.5 - 6 * 0.005)
     assert abs(canvas.wetness[2, 2] / exact - 1.0) < DRY_BATCH  # lags by under a batch
-    assert canvas.take_dirty() == (2, 2, 4, 4)  # 3 % in all: shown
+    assert canvas.take_wet_dirty() == (2, 2, 4, 4)  # 3 % in all: shown
     canvas.dry(dt_s=100.0, rate_per_s=0.5)
     assert not canvas.wetness.any() and DRY_THRESHOLD > 0
-    canvas.take_dirty()
+    assert canvas.take_wet_dirty() == (2, 2, 4, 4) and canvas.take_dirty() is None
     canvas.dry(dt_s=1.0, rate_per_s=0.5)  # fully dry: nothing to do, nothing dirty
-    assert canvas.take_dirty() is None
+    assert canvas.take_dirty() is None and canvas.take_wet_dirty() is None
     with pytest.raises(InputError):
         canvas.dry(dt_s=-1.0, rate_per_s=0.5)

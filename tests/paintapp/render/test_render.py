@@ -213,7 +213,8 @@ def test_largest_canvas_uploads_and_renders(ctx, library):
 
 
 @pytest.mark.parametrize("zero_fill", [False, True])
-def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zero_fill):
+@pytest.mark.parametrize("reduction", [1, 4])
+def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zero_fill, reduction):
     from paintapp.render import textures
 
     if zero_fill:  # every box is large: zeroed first, only its painted part computed
@@ -222,6 +223,7 @@ def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zer
     names = ("cadmium_red", "cadmium_yellow", "ultramarine_blue", "titanium_white", "ivory_black")
     canvas = Canvas((300, 200), (300 * TEXEL_M, 200 * TEXEL_M), names)
     live = CanvasRenderer(ctx, library, lighting=UNLIT)
+    live.reduction = reduction
     live.update(canvas)
     for _ in range(12):  # strokes here and there, and the paint drying in between
         w, h = rng.integers(1, 60, 2)
@@ -230,8 +232,9 @@ def test_dirty_region_uploads_equal_a_full_upload(ctx, library, monkeypatch, zer
         canvas.write_region(int(x0), int(y0), patch, np.ones((h, w), np.float32))
         canvas.dry(5.0, 0.01)
         live.update(canvas)
-    assert canvas.peek_dirty() is None
+    assert canvas.peek_dirty() is None and canvas.peek_wet_dirty() is None
     fresh = CanvasRenderer(ctx, library, lighting=UNLIT)
+    fresh.reduction = reduction
     canvas.mark_all_dirty()
     assert fresh.update(canvas) == (0, 0, 300, 200)
     for a, b in (
