@@ -12,7 +12,8 @@ render loop (:meth:`CanvasWidget.refresh`, a Qt timer at the display rate):
 3. draws only that rectangle (a GL scissor): minified, the Kubelka-Munk mixing and lighting per
    window pixel (:meth:`CanvasRenderer.render`); magnified, the cached lit picture
    (:meth:`CanvasRenderer.render_cached`, which shades at most each changed texel once);
-4. reads that rectangle back into the widget's image and asks Qt to repaint just that rectangle.
+4. reads that rectangle back (sRGB-encoded as it was drawn, as in ``preview.png``) into the
+   widget's image and asks Qt to repaint just that rectangle.
 
 Qt's raster backing store then puts only the changed pixels on the screen. This replaced a
 ``QOpenGLWidget``: on a software rasterizer its composition of the whole window through GL and
@@ -54,6 +55,9 @@ ARROW_WIDTH_PER_N = 10.0
 PAD_PX = 3
 #: Coarsest texture reduction for a minified view (canvas texels per texture texel, a side).
 MAX_REDUCTION = 8
+#: OpenGL enums moderngl has no names for: an sRGB-encoded colour format, and its switch.
+GL_SRGB8_ALPHA8 = 0x8C43
+GL_FRAMEBUFFER_SRGB = 0x8DB9
 #: RGBA bytes to the byte order of ``QImage.Format_RGB32``.
 BGRA = [2, 1, 0, 3]
 #: Colour of the widget while no picture exists (no GL, or before the first frame).
@@ -225,7 +229,11 @@ class CanvasWidget(QWidget):
             for attachment in self._fbo.color_attachments:
                 attachment.release()
             self._fbo.release()
-        self._fbo = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(size, 4)])
+        # An sRGB target: the renderer's linear colour is encoded as it is written (blending
+        # stays linear), so the window shows what preview.png does.
+        target = self.ctx.texture(size, 4, internal_format=GL_SRGB8_ALPHA8)
+        self._fbo = self.ctx.framebuffer(color_attachments=[target])
+        self.ctx.enable_direct(GL_FRAMEBUFFER_SRGB)
         w, h = size
         # The image owns its memory and the array views it (an image made over a Python
         # buffer upsets PySide6's reference counts at exit).

@@ -352,3 +352,28 @@ def test_without_opengl_the_window_says_so_and_keeps_painting(
     finally:
         win.close()
         pump(0.1)
+
+
+def test_the_window_shows_the_colours_of_the_preview(window, pump):
+    """The canvas on screen is sRGB-encoded like ``preview.png``: a flat patch of paint shows
+    the colour the exported preview gives it."""
+    from paintapp.app.history import copy_canvas
+    from paintapp.canvas.preview import encode_preview
+    from paintapp.render.headless import render_canvas_rgba
+
+    win, widget = window, window.canvas_widget
+    with win.shared.lock:
+        canvas = win.shared.canvas
+        red = canvas.add_pigment("cadmium_red")
+        patch = np.zeros((len(canvas.pigment_names), 200, 300), np.float32)
+        patch[red] = 2e-4
+        canvas.write_region(200, 140, patch, np.zeros((200, 300), np.float32))
+        snapshot = copy_canvas(canvas)
+    pump(0.5)
+    expected = encode_preview(render_canvas_rgba(snapshot, win.library, widget.lighting))
+    x_m, y_m = snapshot.texel_to_metres(350, 240)  # the patch's middle
+    px, py = widget.mapping().to_widget(x_m, y_m)
+    ratio = widget.devicePixelRatioF()
+    shown = widget.shown_pixels()[round(py * ratio), round(px * ratio)].astype(int)
+    preview = expected[snapshot.height - 1 - 240, 350].astype(int)
+    assert np.abs(shown - preview).max() <= 3, (shown, preview)
