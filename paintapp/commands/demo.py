@@ -58,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=float,
         default=0.1,
         metavar="MM",
-        help="texel size with --canvas-size, mm (default 0.1)",
+        help="texel size of the sheet, mm (default 0.1; the file's own with --canvas-size own)",
     )
     add_replay_options(parser)
     parser.set_defaults(func=run)

@@ -116,7 +116,8 @@ class CanvasTextures:
         w, h = x1 - x0, y1 - y0
         conc = np.empty((self.layers, h, w, 4), np.float32)
         surface = np.empty((h, w, 2), np.float32)
-        pack_region(canvas.paint_m, canvas.wetness, self.reduction, x0, y0, conc, surface)
+        pack_region(canvas.paint_m, self.reduction, x0, y0, conc, surface[..., 0])
+        block_means(canvas.wetness, self.reduction, x0, y0, surface[..., 1])
         halves = np.empty(conc.shape, np.uint16)  # the half floats' bits
         half_bits(conc.reshape(-1).view(np.uint32), halves.reshape(-1))
         self.concentration.write(halves, viewport=(x0, y0, 0, w, h, self.layers))
@@ -169,52 +170,36 @@ def half_bits(bits: np.ndarray, out: np.ndarray) -> None:
 @njit(cache=True, nogil=True)
 def pack_region(
     paint: np.ndarray,
-    wetness: np.ndarray,
     reduction: int,
     x0: int,
     y0: int,
     conc: np.ndarray,
-    surface: np.ndarray,
+    height: np.ndarray,
 ) -> None:
     """One pass over the texture texels of a box from (``x0``, ``y0``): ``conc`` (layers, h, w,
     4) gets each pigment's volume fraction (``paint / total`` in float32, 0 where there is no
-    paint; channels past the pigments 0), ``surface`` (h, w, 2) the paint height (the float32
-    sum over the pigments) and the wetness. With ``reduction`` 1 a texture texel is a canvas
-    texel: the same values as :meth:`Canvas.concentration_region` and ``paint.sum(axis=0,
-    dtype=float32)``, without their temporaries. With ``reduction`` f it is the mean of an
-    f x f block of canvas texels (fewer at the canvas's far edges): each pigment's paint and the
-    wetness averaged, and the fractions and height taken from those means."""
+    paint; channels past the pigments 0), ``height`` (h, w) the paint height (the float32 sum
+    over the pigments). With ``reduction`` 1 a texture texel is a canvas texel: the same values
+    as :meth:`Canvas.concentration_region` and ``paint.sum(axis=0, dtype=float32)``, without
+    their temporaries. With ``reduction`` f each pigment's paint is first averaged over an f x f
+    block of canvas texels as :func:`block_means` does (fewer texels at the canvas's far edges),
+    and the fractions and height are taken from those means."""
     pigments = paint.shape[0]
     channels = conc.shape[0] * 4
-    height, width = wetness.shape
+    rows, cols = paint.shape[1], paint.shape[2]
     zero = np.float32(0.0)
     means = np.zeros(max(pigments, 1), np.float32)
     for y in range(conc.shape[1]):
         for x in range(conc.shape[2]):
-            if reduction == 1:
-                for p in range(pigments):
+            for p in range(pigments):
+                if reduction == 1:  # no slice per texel on the full-resolution path
                     means[p] = paint[p, y0 + y, x0 + x]
-                wet = wetness[y0 + y, x0 + x]
-            else:
-                ty0, tx0 = (y0 + y) * reduction, (x0 + x) * reduction
-                ty1, tx1 = min(ty0 + reduction, height), min(tx0 + reduction, width)
-                count = max((ty1 - ty0) * (tx1 - tx0), 1)
-                for p in range(pigments):
-                    acc = 0.0
-                    for ty in range(ty0, ty1):
-                        for tx in range(tx0, tx1):
-                            acc += paint[p, ty, tx]
-                    means[p] = np.float32(acc / count)
-                acc = 0.0
-                for ty in range(ty0, ty1):
-                    for tx in range(tx0, tx1):
-                        acc += wetness[ty, tx]
-                wet = np.float32(acc / count)
+                else:
+                    means[p] = _block_mean(paint[p], reduction, x0 + x, y0 + y, rows, cols)
             total = zero
             for p in range(pigments):
                 total += means[p]
-            surface[y, x, 0] = total
-            surface[y, x, 1] = wet
+            height[y, x] = total
             for q in range(channels):
                 value = zero
                 if q < pigments and total > zero:
@@ -222,25 +207,29 @@ def pack_region(
                 conc[q // 4, y, x, q % 4] = value
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _block_mean(values: np.ndarray, reduction: int, bx: int, by: int, rows: int, cols: int):
+    """The mean of block (``bx``, ``by``) of ``values`` (float64 sum, float32 result); the
+    value itself for ``reduction`` 1."""
+    if reduction == 1:
+        return values[by, bx]
+    ty0, tx0 = by * reduction, bx * reduction
+    ty1, tx1 = min(ty0 + reduction, rows), min(tx0 + reduction, cols)
+    acc = 0.0
+    for ty in range(ty0, ty1):
+        for tx in range(tx0, tx1):
+            acc += values[ty, tx]
+    return np.float32(acc / max((ty1 - ty0) * (tx1 - tx0), 1))
+
+
 @njit(cache=True, nogil=True)
 def block_means(values: np.ndarray, reduction: int, x0: int, y0: int, out: np.ndarray) -> None:
     """``out`` (h, w) gets the means of ``values``'s ``reduction`` x ``reduction`` blocks from
-    block (``x0``, ``y0``) on (fewer texels at the far edges), summed in the order and precision
-    of :func:`pack_region`, so the two agree to the bit."""
-    height, width = values.shape
+    block (``x0``, ``y0``) on (fewer texels at the far edges; the values themselves for 1)."""
+    rows, cols = values.shape
     for y in range(out.shape[0]):
         for x in range(out.shape[1]):
-            if reduction == 1:
-                out[y, x] = values[y0 + y, x0 + x]
-                continue
-            ty0, tx0 = (y0 + y) * reduction, (x0 + x) * reduction
-            ty1, tx1 = min(ty0 + reduction, height), min(tx0 + reduction, width)
-            count = max((ty1 - ty0) * (tx1 - tx0), 1)
-            acc = 0.0
-            for ty in range(ty0, ty1):
-                for tx in range(tx0, tx1):
-                    acc += values[ty, tx]
-            out[y, x] = np.float32(acc / count)
+            out[y, x] = _block_mean(values, reduction, x0 + x, y0 + y, rows, cols)
 
 
 def content_box(canvas: Canvas, box: Box) -> Box | None:

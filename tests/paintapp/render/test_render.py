@@ -363,7 +363,7 @@ def test_half_float_bits_are_numpys_rounding_everywhere():
 
 
 def test_packing_a_region_gives_the_canvas_concentrations_and_height_exactly():
-    from paintapp.render.textures import layer_count, pack_region
+    from paintapp.render.textures import block_means, layer_count, pack_region
 
     rng = np.random.default_rng(7)
     canvas = known_canvas(40, 30)
@@ -375,7 +375,8 @@ def test_packing_a_region_gives_the_canvas_concentrations_and_height_exactly():
     layers = layer_count(len(canvas.pigment_names))
     conc = np.full((layers, y1 - y0, x1 - x0, 4), np.nan, np.float32)
     surface = np.full((y1 - y0, x1 - x0, 2), np.nan, np.float32)
-    pack_region(canvas.paint_m, canvas.wetness, 1, x0, y0, conc, surface)
+    pack_region(canvas.paint_m, 1, x0, y0, conc, surface[..., 0])
+    block_means(canvas.wetness, 1, x0, y0, surface[..., 1])
     expected = np.zeros((4 * layers, y1 - y0, x1 - x0), np.float32)
     expected[: len(canvas.pigment_names)] = canvas.concentration_region(box)
     got = conc.transpose(0, 3, 1, 2).reshape(4 * layers, y1 - y0, x1 - x0)
@@ -388,7 +389,7 @@ def test_packing_a_region_gives_the_canvas_concentrations_and_height_exactly():
 def test_reduced_textures_hold_the_block_means_of_the_canvas():
     """A reduction f packs each f x f block (fewer texels at the far edges) as one texel: the
     pigments' and the wetness's means, and fractions and height from those means."""
-    from paintapp.render.textures import layer_count, pack_region
+    from paintapp.render.textures import block_means, layer_count, pack_region
 
     rng = np.random.default_rng(11)
     canvas = known_canvas(37, 22)  # not a multiple of the block at either edge
@@ -398,7 +399,8 @@ def test_reduced_textures_hold_the_block_means_of_the_canvas():
     w, h = -(-37 // f), -(-22 // f)
     conc = np.zeros((layers, h, w, 4), np.float32)
     surface = np.zeros((h, w, 2), np.float32)
-    pack_region(canvas.paint_m, canvas.wetness, f, 0, 0, conc, surface)
+    pack_region(canvas.paint_m, f, 0, 0, conc, surface[..., 0])
+    block_means(canvas.wetness, f, 0, 0, surface[..., 1])
     for j, i in ((0, 0), (2, 3), (h - 1, w - 1), (h - 1, 0)):
         block = (slice(j * f, (j + 1) * f), slice(i * f, (i + 1) * f))
         means = canvas.paint_m[(slice(None), *block)].astype(np.float64).mean(axis=(1, 2))
