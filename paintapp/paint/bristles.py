@@ -14,17 +14,91 @@ its position ``u`` in [-1, 1] over that width. Inside the footprint and one cell
 the brush deposits) the weights follow the profiles; elsewhere they are even. As the brush moves,
 each clump keeps its ``u`` and so draws a streak along the stroke, and the ridge profile heaps
 paint along both sides.
+
+Only the tip's footprint is shape code (its signed distance, on the texels within its reach); the
+rest is one kernel pass over the box (:func:`texture_weights`), with the profiles tabulated
+(:func:`profile_tables`).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
+from numba import njit
 
 from brushes import Section
-from brushes.bristles import Bristles
+from brushes.bristles import PROFILE_SAMPLES, Bristles
 from paintapp.canvas.regions import Box
+
+
+@functools.lru_cache(maxsize=16)
+def profile_tables(bristles: Bristles) -> tuple[np.ndarray, np.ndarray]:
+    """The gain and loss weights at ``PROFILE_SAMPLES`` evenly spaced ``u`` over [-1, 1]: both
+    are affine in the linearly interpolated profiles, so interpolating these tables linearly
+    gives the same weights (to round-off). Read only."""
+    u = np.linspace(-1.0, 1.0, PROFILE_SAMPLES)
+    return bristles.gain_weight(u), bristles.loss_weight(u)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _lookup(table, u):
+    """``table`` (samples over [-1, 1]) interpolated linearly at ``u`` (clipped)."""
+    n = table.shape[0]
+    pos = (min(max(u, -1.0), 1.0) + 1.0) * 0.5 * (n - 1)
+    i = min(int(pos), n - 2)
+    frac = pos - i
+    return table[i] * (1.0 - frac) + table[i + 1] * frac
+
+
+@njit(cache=True, nogil=True)
+def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, gain_table, loss_table,
+                    gain, loss):  # fmt: skip
+    """Fill ``gain`` and ``loss`` (ny, nx) over the box whose first texel is (x0, y0): see
+    :meth:`BristleTexture.weights`. ``sdf`` is the footprint's signed distance (m) on the texels
+    of a sub-box at (sx0, sy0) (inf where not evaluated; texels outside it are farther than the
+    texture reaches); (ax, ay) is the unit direction across the motion, (cx, cy) the apex (m).
+    Returns False (the outputs unset) when the footprint covers no texel."""
+    ny, nx = gain.shape
+    sny, snx = sdf.shape
+    a_lo, a_hi = np.inf, -np.inf
+    for y in range(sny):
+        gy = (sy0 + y + 0.5) * texel - cy
+        for x in range(snx):
+            if sdf[y, x] <= 0.0:
+                across = ax * ((sx0 + x + 0.5) * texel - cx) + ay * gy
+                a_lo, a_hi = min(a_lo, across), max(a_hi, across)
+    if a_hi < a_lo:
+        return False
+    span = max(a_hi - a_lo, texel)
+    wide = 1.0 + 2.0 * reach / span
+    count, gain_sum, loss_sum = 0, 0.0, 0.0
+    for y in range(ny):
+        gy = (y0 + y + 0.5) * texel - cy
+        for x in range(nx):
+            gx = (x0 + x + 0.5) * texel - cx
+            u = 2.0 * (ax * gx + ay * gy - a_lo) / span - 1.0
+            textured = ay * gx - ax * gy <= 0.0 and abs(u) <= wide  # the wake
+            sy, sx = y0 + y - sy0, x0 + x - sx0
+            if 0 <= sy < sny and 0 <= sx < snx and sdf[sy, sx] <= reach:
+                textured = True  # the footprint and the cell round it
+            if textured:
+                g, b = _lookup(gain_table, u), _lookup(loss_table, u)
+                gain[y, x], loss[y, x] = g, b
+                count += 1
+                gain_sum += g
+                loss_sum += b
+            else:
+                loss[y, x] = -1.0
+    gain_mean, loss_mean = gain_sum / count, loss_sum / count
+    for y in range(ny):
+        for x in range(nx):
+            if loss[y, x] < 0.0:
+                gain[y, x], loss[y, x] = 1.0, loss_mean
+            else:
+                gain[y, x] /= gain_mean
+    return True
 
 
 class BristleTexture:
@@ -71,10 +145,17 @@ class BristleTexture:
         elsewhere."""
         x0, y0, x1, y1 = box
         t, c = self.texel_m, self.centre
-        dx = (np.arange(x0, x1) + 0.5) * t - c[0]
-        dy = (np.arange(y0, y1) + 0.5) * t - c[1]
-        gx, gy = np.meshgrid(dx, dy)  # (ny, nx)
         radius = self.radius_m + self.reach_m
+        # the texels whose centres may lie within ``radius`` of the apex
+        sx0 = max(x0, math.floor((c[0] - radius) / t - 0.5))
+        sx1 = min(x1, math.ceil((c[0] + radius) / t + 0.5))
+        sy0 = max(y0, math.floor((c[1] - radius) / t - 0.5))
+        sy1 = min(y1, math.ceil((c[1] + radius) / t + 0.5))
+        if sx1 <= sx0 or sy1 <= sy0:
+            return None
+        dx = (np.arange(sx0, sx1) + 0.5) * t - c[0]
+        dy = (np.arange(sy0, sy1) + 0.5) * t - c[1]
+        gx, gy = np.meshgrid(dx, dy)  # (ny, nx)
         near = gx**2 + gy**2 <= radius**2
         if not near.any():
             return None
@@ -82,21 +163,10 @@ class BristleTexture:
                          -self.sin * gx[near] + self.cos * gy[near]], axis=-1)  # fmt: skip
         sdf = np.full(gx.shape, np.inf)
         sdf[near] = self.footprint.sdf(body)
-        inside = sdf <= 0.0
-        if not inside.any():
+        gain, loss = np.empty((y1 - y0, x1 - x0)), np.empty((y1 - y0, x1 - x0))
+        gain_table, loss_table = profile_tables(self.bristles)
+        ax, ay = float(self.across[0]), float(self.across[1])
+        if not texture_weights(x0, y0, t, float(c[0]), float(c[1]), ax, ay, self.reach_m, sdf,
+                               sx0, sy0, gain_table, loss_table, gain, loss):  # fmt: skip
             return None
-        across = self.across[0] * gx + self.across[1] * gy
-        along = self.across[1] * gx - self.across[0] * gy
-        a_lo, a_hi = float(across[inside].min()), float(across[inside].max())
-        span = max(a_hi - a_lo, t)
-        u = 2.0 * (across - a_lo) / span - 1.0
-        # The footprint and the cell round it, and the wake: the band the footprint swept.
-        wake = (along <= 0.0) & (np.abs(u) <= 1.0 + 2.0 * self.reach_m / span)
-        textured = (sdf <= self.reach_m) | wake
-        gain_in = self.bristles.gain_weight(u[textured])
-        loss_in = self.bristles.loss_weight(u[textured])
-        gain = np.ones(gx.shape)
-        loss = np.full(gx.shape, float(loss_in.mean()))
-        gain[textured] = gain_in / gain_in.mean()
-        loss[textured] = loss_in
         return gain, loss

@@ -38,20 +38,17 @@ import math
 from typing import Protocol
 
 import numpy as np
-from scipy import sparse
 
 from common.errors import InputError
 from paintapp.canvas.model import FILM_FLOOR_M as CANVAS_FILM_FLOOR_M
-from paintapp.canvas.model import Canvas
+from paintapp.canvas.model import MAX_PAINT_M, Canvas
 from paintapp.canvas.regions import Box
+from paintapp.paint import texel_transfer as kernels
 from paintapp.paint.paint_scene import TRANSFER_KERNELS
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
 FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
-
-#: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
-FULLY_WET = 1.0 - 2.0**-20
 
 
 class TexelWeights(Protocol):
@@ -178,13 +175,6 @@ class ColumnWindow:
             axis_weights(oy + r[2] * k - box[1], k, r[3] - r[2], box[3] - box[1], kernel),
         )
 
-    def _mobile(self, canvas: Canvas, box: tuple[int, int, int, int]):
-        x0, y0, x1, y1 = box
-        paint = canvas.paint_m[:, y0:y1, x0:x1].astype(np.float64)
-        wet = canvas.wetness[y0:y1, x0:x1].astype(np.float64)
-        wet[wet >= FULLY_WET] = 1.0  # float32 round-off of fresh paint is no dry residue
-        return paint, wet, paint * wet
-
     def gather(self, canvas: Canvas) -> np.ndarray:
         """Mobile paint per column and pigment, (P, nx, ny) float64, metres (0 off the canvas):
         the weighted sum of the texels' mobile paint over the column's area ``k^2``."""
@@ -194,8 +184,12 @@ class ColumnWindow:
             return out
         box = self._texel_block(r)
         wx, wy = self._weights(r, box)
-        _, _, mobile = self._mobile(canvas, box)
-        out[:, r[0] : r[1], r[2] : r[3]] = _to_columns(mobile, wx, wy) / self.k**2
+        sums = np.empty((out.shape[0], r[1] - r[0], r[3] - r[2]))
+        unused = np.empty((0, 0))
+        kernels.texels_to_columns(canvas.paint_m, canvas.wetness, box[0], box[1], wx.first,
+                                  wx.taps, wy.first, wy.taps, unused, unused, False, sums,
+                                  np.empty(sums.shape[1:]))  # fmt: skip
+        out[:, r[0] : r[1], r[2] : r[3]] = sums / self.k**2
         return out
 
     def write_back(
@@ -212,7 +206,9 @@ class ColumnWindow:
         ``gathered`` is what :meth:`gather` returned for this canvas, unchanged since (a step
         passes it on; otherwise it is gathered again): thin films are dropped column by column
         first, so only the texels of columns whose change survives are read and written (the
-        transport's thin tails reach the whole grid)."""
+        transport's thin tails reach the whole grid). The texels are read and written by
+        :mod:`paintapp.paint.texel_transfer`'s kernels; only the texels that changed are written
+        and marked dirty."""
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
             return
@@ -232,21 +228,39 @@ class ColumnWindow:
         change, owned = change[:, a0:a1, b0:b1], held[:, a0:a1, b0:b1]
         box = self._texel_block(sub)
         wx, wy = self._weights(sub, box)
-        paint, wet, mobile = self._mobile(canvas, box)
         shape = texture.weights(box) if texture is not None else None
-        new_mobile, touched = _spread_change(mobile, owned, change, wx, wy, shape)
-        if not touched.any():
-            return
-        dry = paint * (1.0 - wet)
-        new_mobile, touched = close_pinholes(dry, new_mobile, touched)
-        new_paint = dry + new_mobile  # dry part + new wet part
-        total = new_paint.sum(axis=0)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
-        untouched = ~touched
-        np.copyto(new_paint, paint, where=untouched[None])  # no gather/scatter of a mask index
-        np.copyto(new_wet, wet, where=untouched)
-        canvas.write_region(box[0], box[1], new_paint, np.clip(new_wet, 0.0, 1.0))
+        args = (
+            canvas.paint_m,
+            canvas.wetness,
+            box[0],
+            box[1],
+            wx.first,
+            wx.taps,
+            wy.first,
+            wy.taps,
+        )
+        if shape is None:
+            unused = np.empty((0, 0))
+            gain_w = loss_w = unused
+            rates = column_rates(owned, change, np.outer(wx.sums, wy.sums)[None], owned)
+        else:
+            gain_w, loss_w = shape
+            first = np.empty_like(owned)
+            support = np.empty(owned.shape[1:])
+            kernels.texels_to_columns(*args, loss_w, gain_w, True, first, support)
+            rates = column_rates(owned, change, support[None], first)
+        ny, nx = box[3] - box[1], box[2] - box[0]
+        new_mobile = np.empty((owned.shape[0], ny, nx))
+        touched = np.empty((ny, nx), dtype=np.bool_)
+        total = np.empty((ny, nx))
+        kernels.spread_to_texels(*args, *rates, gain_w, loss_w, shape is not None, new_mobile,
+                                 touched, total)  # fmt: skip
+        kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
+        bounds = np.zeros(4, np.int64)
+        kernels.store_texels(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile, touched,
+                             MAX_PAINT_M, bounds)  # fmt: skip
+        if bounds[2] > bounds[0]:
+            canvas.mark_dirty(*(int(v) for v in bounds))
 
 
 def reach_cells(k: int, kernel: str = "bspline") -> int:
@@ -281,74 +295,14 @@ def axis_weights(offset: int, k: int, columns: int, texels: int, kernel: str) ->
 
 
 class AxisWeights:
-    """One axis's transfer weights (columns, texels) as a sparse matrix: each texel has at most
-    three columns, so the transfers cost a few operations per texel, not one per column."""
+    """One axis's transfer weights (columns, texels), per texel: ``first``, the first column its
+    weights reach, and ``taps``, the weights of it and the next columns
+    (:func:`paintapp.paint.texel_transfer.axis_taps`); ``sums``, each column's total."""
 
     def __init__(self, weights: np.ndarray) -> None:
-        self.matrix = sparse.csr_matrix(weights)
-        self.transposed = sparse.csr_matrix(weights.T)
         self.shape = weights.shape
-        self.sums = np.asarray(self.matrix.sum(axis=1)).ravel()
-
-
-def _to_columns(texels: np.ndarray, wx: AxisWeights, wy: AxisWeights) -> np.ndarray:
-    """(P, ny_t, nx_t) texel values -> (P, ni, nj) weighted sums (grid order: x first)."""
-    p, ny, nx = texels.shape
-    nj, ni = wy.shape[0], wx.shape[0]
-    a = wy.matrix @ texels.transpose(1, 0, 2).reshape(ny, p * nx)  # (nj, P nx)
-    a = np.ascontiguousarray(a.reshape(nj, p, nx).transpose(2, 1, 0)).reshape(nx, p * nj)
-    return (wx.matrix @ a).reshape(ni, p, nj).transpose(1, 0, 2)
-
-
-def _to_texels(columns: np.ndarray, wx: AxisWeights, wy: AxisWeights) -> np.ndarray:
-    """(P, ni, nj) column values -> (P, ny_t, nx_t) weighted sums over the columns."""
-    p, ni, nj = columns.shape
-    nx, ny = wx.shape[1], wy.shape[1]
-    a = wx.transposed @ columns.transpose(1, 0, 2).reshape(ni, p * nj)  # (nx, P nj)
-    a = np.ascontiguousarray(a.reshape(nx, p, nj).transpose(2, 1, 0)).reshape(nj, p * nx)
-    return (wy.transposed @ a).reshape(ny, p, nx).transpose(1, 0, 2)
-
-
-#: The 8 neighbours of a texel, (row, column) offsets.
-_NEIGHBOURS = tuple((dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx)
-
-
-def close_pinholes(
-    dry: np.ndarray, mobile: np.ndarray, touched: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Wet paint (P, ny, nx) with no pinholes, and the texels that changed.
-
-    A pinhole is a changed texel left with at most :data:`FILM_FLOOR_M` of paint whose eight
-    neighbours all hold more than twice that (the columns' overlapping losses can empty one texel
-    inside a painted area). Wet paint does not keep a hole a texel wide: each neighbour gives it
-    1/9 of its wet paint, per pigment, so it ends with about the neighbours' mean. Conserved
-    exactly and never negative (a neighbour gives at most 8/9). Texels on the box's edge are
-    left as they are (their neighbours are not all in the box)."""
-    total = dry.sum(axis=0) + mobile.sum(axis=0)
-    ny, nx = total.shape
-    if ny < 3 or nx < 3:
-        return mobile, touched
-    core = (slice(1, -1), slice(1, -1))
-    pin = touched[core] & (total[core] <= FILM_FLOOR_M)
-    if not pin.any():
-        return mobile, touched
-    shifted = [(slice(1 + dy, ny - 1 + dy), slice(1 + dx, nx - 1 + dx)) for dy, dx in _NEIGHBOURS]
-    for sl in shifted:
-        pin &= total[sl] > 2.0 * FILM_FLOOR_M
-    if not pin.any():
-        return mobile, touched
-    out = mobile.copy()
-    gain = np.zeros_like(mobile[:, 1:-1, 1:-1])
-    gives = np.zeros(total.shape)
-    for sl in shifted:
-        gain += np.where(pin, mobile[(slice(None), *sl)], 0.0) / 9.0
-        gives[sl] += pin
-    out *= 1.0 - gives / 9.0
-    out[:, 1:-1, 1:-1] += gain
-    changed = touched.copy()
-    changed |= gives > 0.0
-    changed[core] |= pin
-    return out, changed
+        self.first, self.taps = kernels.axis_taps(weights)
+        self.sums = weights.sum(axis=1)
 
 
 def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.ndarray:
@@ -381,47 +335,26 @@ def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.n
     return out
 
 
-def _spread_change(
-    mobile: np.ndarray,
-    owned: np.ndarray,
-    change: np.ndarray,
-    wx: AxisWeights,
-    wy: AxisWeights,
-    shape: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """New mobile paint per texel (P, ny_t, nx_t) after column changes ``change`` (P, ni, nj,
-    texel volumes: metres times texels; ``owned``: the columns' weighted mobile paint in
-    the same units), and the (ny_t, nx_t) texels that changed.
+def column_rates(
+    owned: np.ndarray, change: np.ndarray, support: np.ndarray, first: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per column (P, ni, nj): the gain per unit of gain weight, and the loss fractions of the
+    loss-weighted paint and of the rest, for column changes ``change`` (texel volumes: metres
+    times texels; ``owned``: the columns' weighted mobile paint in the same units).
 
-    A gain is laid down with the column's weights, normalised over its texels on the
-    canvas; a loss takes the same fraction ``f`` of the weighted mobile paint of every texel
-    in the column's support (``f <= 1``, so with the weights' partition of unity no texel loses
-    more than it holds).
-
-    With ``shape`` = (gain weights ``g``, loss weights ``b`` in [0, 1]) per texel, a gain is laid
-    down with the weights times ``g`` (normalised per column), and a loss is taken first as
-    a fraction ``f`` of the ``b``-weighted paint, any rest as a fraction ``r`` of the
-    ``(1 - b)``-weighted paint: a texel loses ``m (b F + (1 - b) R)`` with ``F``, ``R``
-    the weighted sums of the columns' fractions, both at most 1, so again no texel loses more than
-    it holds, and each column loses exactly its loss."""
-    if shape is None:
-        support = np.outer(wx.sums, wy.sums)[None]  # (1, ni, nj)
-        gain = np.maximum(change, 0.0) / support
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fraction = np.where((change < 0.0) & (owned > 0.0), -change / owned, 0.0)
-        lost = mobile * _to_texels(np.minimum(fraction, 1.0), wx, wy)
-        laid = _to_texels(gain, wx, wy)
-    else:
-        g, b = shape
-        support = _to_columns(g[None], wx, wy)
-        laid = g[None] * _to_texels(np.maximum(change, 0.0) / support, wx, wy)
-        loss = np.maximum(-change, 0.0)
-        first = _to_columns(mobile * b[None], wx, wy)
-        rest = np.maximum(owned - first, 0.0)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            f = np.where((loss > 0.0) & (first > 0.0), np.minimum(loss / first, 1.0), 0.0)
-            left = np.maximum(loss - f * first, 0.0)
-            r = np.where((left > 0.0) & (rest > 0.0), np.minimum(left / rest, 1.0), 0.0)
-        lost = mobile * (b[None] * _to_texels(f, wx, wy) + (1.0 - b[None]) * _to_texels(r, wx, wy))
-    touched = np.any((lost > 0.0) | (laid > 0.0), axis=0)
-    return np.maximum(mobile - lost, 0.0) + laid, touched
+    A gain is laid down with the column's weights times the texels' gain weights ``g``,
+    normalised by their sum ``support``; a loss is taken first as a fraction ``f`` of the
+    loss-weighted paint ``first`` (the columns' weighted sums of ``b`` times the mobile paint,
+    ``b`` in (0, 1]), any rest as a fraction ``r`` of the ``(1 - b)``-weighted paint: a texel
+    with mobile paint ``m`` loses ``m (b F + (1 - b) R)`` with ``F``, ``R`` the weighted sums of
+    the columns' fractions, both at most 1, so with the weights' partition of unity no texel
+    loses more than it holds, and each column loses exactly its loss. Without a texture
+    (``g = b = 1``: ``first`` is ``owned`` and ``support`` the weights' sums) ``r`` is 0."""
+    loss = np.maximum(-change, 0.0)
+    rest = np.maximum(owned - first, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gain = np.where(support > 0.0, np.maximum(change, 0.0) / support, 0.0)
+        f = np.where((loss > 0.0) & (first > 0.0), np.minimum(loss / first, 1.0), 0.0)
+        left = np.maximum(loss - f * first, 0.0)
+        r = np.where((left > 0.0) & (rest > 0.0), np.minimum(left / rest, 1.0), 0.0)
+    return gain, f, r

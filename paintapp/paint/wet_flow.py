@@ -31,8 +31,9 @@ from scipy.ndimage import find_objects, label
 
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.canvas.regions import Box
-from paintapp.paint.columns import FULLY_WET, ColumnWindow, TexelWeights
+from paintapp.paint.columns import ColumnWindow, TexelWeights
 from paintapp.paint.texel_flow import advance, substeps_needed
+from paintapp.paint.texel_transfer import FULLY_WET
 from paintapp.paint.texel_velocity import texel_face_velocity
 
 #: Exponent of the bristle walls' block on the flow across them (:func:`combed`). With 4 a

@@ -12,7 +12,7 @@ from brushes import Section, load_preset_named
 from brushes.bristles import Bristles
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
-from paintapp.paint.columns import ColumnWindow
+from paintapp.paint.columns import ColumnWindow, transfer_weights
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 from tests.paintapp.paint.test_paint_transfer import BLUE, balance, small_scene
@@ -110,3 +110,61 @@ def test_a_textured_write_back_moves_exactly_the_column_change():
     after = canvas.paint_m.astype(np.float64).sum(axis=(1, 2))
     np.testing.assert_allclose(after - before, delta.sum(axis=(1, 2)) * 25, rtol=1e-5)
     assert canvas.paint_m.min() >= 0.0
+
+
+def test_the_write_back_lays_gains_with_the_weights_and_takes_losses_as_fractions():
+    """Each texel against the transfer written with dense weight matrices: a texel gains
+    ``g * sum_c w_c gain_c`` and loses ``m * (b * sum_c w_c f_c + (1 - b) * sum_c w_c r_c)``."""
+    rng = np.random.default_rng(5)
+    canvas = Canvas((90, 80), (0.0225, 0.02), (BLUE, "cadmium_red"))
+    paint = rng.uniform(0.0, 2e-4, (2, 80, 90)).astype(np.float32)
+    wet = rng.uniform(0.2, 1.0, (80, 90)).astype(np.float32)
+    canvas.write_region(0, 0, paint, wet)
+    window = ColumnWindow(canvas, (12, 12), 5)
+    window.place(0.011, 0.01)
+    g = rng.uniform(0.5, 1.5, (80, 90))
+    b = rng.uniform(0.3, 1.0, (80, 90))
+
+    class Texture:
+        def weights(self, box):
+            x0, y0, x1, y1 = box
+            return g[y0:y1, x0:x1], b[y0:y1, x0:x1]
+
+    owned = window.gather(canvas)
+    delta = rng.uniform(-0.8, 1.0, owned.shape) * owned.mean()
+    delta[:, :, :2] = 0.0  # two rows of columns unchanged
+    delta[:, 7, 5] = -10.0 * owned[:, 7, 5]  # a column losing all it holds
+    ox, oy = window.origin_texel
+    wx = transfer_weights(ox, 5, 0, 12, 0, 90)  # dense (columns, texels)
+    wy = transfer_weights(oy, 5, 0, 12, 0, 80)
+    share = np.where(wet >= 1.0 - 2.0**-20, 1.0, wet.astype(np.float64))
+    mobile = paint.astype(np.float64) * share
+    on = window.on_canvas()
+    wx_on, wy_on = wx * on.any(axis=1)[:, None], wy * on.any(axis=0)[:, None]
+
+    def to_columns(texels):
+        return np.einsum("it,jy,...yt->...ij", wx_on, wy_on, texels)
+
+    def to_texels(columns):
+        return np.einsum("it,jy,...ij->...yt", wx_on, wy_on, columns)
+
+    change, held = delta * 25, owned * 25
+    first, support = to_columns(mobile * b), to_columns(g)
+    loss = np.maximum(-change, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gain = np.where(on, np.maximum(change, 0.0) / support, 0.0)
+        f = np.where(on & (loss > 0), np.minimum(loss / first, 1.0), 0.0)
+        rest = np.maximum(held - first, 0.0)
+        left = np.maximum(loss - f * first, 0.0)
+        r = np.where(on & (left > 0) & (rest > 0), np.minimum(left / rest, 1.0), 0.0)
+    new_mobile = np.maximum(mobile - mobile * (b * to_texels(f) + (1 - b) * to_texels(r)), 0.0)
+    new_mobile += g * to_texels(gain)
+    expected = paint * (1.0 - share) + new_mobile
+    expected_wet = new_mobile.sum(axis=0) / expected.sum(axis=0)
+
+    window.write_back(canvas, delta, Texture())
+    np.testing.assert_allclose(canvas.paint_m, expected, rtol=2e-6, atol=1e-12)
+    np.testing.assert_allclose(canvas.wetness, expected_wet, rtol=2e-6)
+    assert not np.array_equal(canvas.paint_m, paint)
+    untouched = to_texels(np.abs(delta).sum(axis=0)) == 0.0  # beyond every changed column
+    assert untouched.any() and np.array_equal(canvas.paint_m[:, untouched], paint[:, untouched])

@@ -8,8 +8,8 @@ import pytest
 from brushes import PaintReservoir
 from paintapp.canvas.lattice import count_holes
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
-from paintapp.paint.columns import close_pinholes
 from paintapp.paint.paint_model import PaintModel
+from paintapp.paint.texel_transfer import close_pinholes
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import paint, small_scene
 from tests.support.demo_strokes import StrokeSpec
@@ -75,15 +75,21 @@ def test_a_pinhole_is_filled_from_its_neighbours_conserving_each_pigment():
     mobile = rng.uniform(1e-6, 1e-5, (2, 9, 9))
     mobile[:, 4, 4] = 1e-9  # a pinhole
     mobile[:, 0, 0] = 0.0  # on the box's edge: left alone
-    dry = np.zeros((2, 9, 9))
-    touched = np.ones((9, 9), bool)
-    out, changed = close_pinholes(dry, mobile, touched)
+    total = mobile.sum(axis=0)  # no dry paint under the texels
+    out, changed = mobile.copy(), np.ones((9, 9), bool)
+    assert close_pinholes(out, changed, total, FILM_FLOOR_M) == 1
     np.testing.assert_allclose(out.sum(axis=(1, 2)), mobile.sum(axis=(1, 2)), rtol=1e-12)
     assert out.min() >= 0.0 and out[:, 4, 4].sum() > FILM_FLOOR_M
+    neighbours = mobile[:, 3:6, 3:6].sum(axis=(1, 2)) - mobile[:, 4, 4]
+    np.testing.assert_allclose(out[:, 4, 4], mobile[:, 4, 4] + neighbours / 9.0)
     assert out[:, 0, 0].sum() == 0.0
     assert changed[4, 4] and changed[3:6, 3:6].all()
-    untouched = np.zeros((9, 9), bool)  # a texel the step did not change is not a pinhole here
-    same, _ = close_pinholes(dry, mobile, untouched)
+    same, untouched = mobile.copy(), np.zeros((9, 9), bool)  # unchanged texels are no pinholes
+    assert close_pinholes(same, untouched, total, FILM_FLOOR_M) == 0
+    assert np.array_equal(same, mobile) and not untouched.any()
+    under_dry = total + 1e-5  # dry paint under the hole: not a hole
+    same, changed = mobile.copy(), np.ones((9, 9), bool)
+    assert close_pinholes(same, changed, under_dry, FILM_FLOOR_M) == 0
     assert np.array_equal(same, mobile)
 
 

@@ -1,0 +1,228 @@
+"""Numba kernels of the column/texel transfer (:mod:`paintapp.paint.columns`), one pass each.
+
+Each axis's transfer weights are given per texel as ``first`` (the first column whose weight
+reaches the texel) and ``taps`` (that column's weight and the next ``TAPS - 1`` columns',
+zero past the last column): the quadratic B-spline reaches three columns, the tent two. The
+kernels work on the canvas's own float32 arrays in place, row by row (the canvas's memory order),
+with the 2D sums split per axis, so the write-back reads and writes every texel of its box once
+instead of the dozen whole-box array passes (and the interpreter lock hand-overs between them) of
+the array form; the lock is released throughout.
+
+A texel's *mobile* paint is its paint times its wetness, the wetness read as 1 from
+:data:`FULLY_WET` up (float32 round-off of fresh paint is no dry residue).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: Columns one texel's weights reach on one axis at most.
+TAPS = 3
+
+#: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
+FULLY_WET = 1.0 - 2.0**-20
+
+
+def axis_taps(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, taps) of dense (columns, texels) weights: per texel, the first column with a
+    non-zero weight (0 where none) and the weights of it and the next ``TAPS - 1`` columns."""
+    n_col, n_tex = weights.shape
+    nonzero = weights != 0.0
+    first = np.where(nonzero.any(axis=0), np.argmax(nonzero, axis=0), 0)
+    taps = np.zeros((n_tex, TAPS))
+    for a in range(TAPS):
+        col = first + a
+        ok = col < n_col
+        taps[ok, a] = weights[col[ok], np.flatnonzero(ok)]
+    if np.count_nonzero(taps) != np.count_nonzero(nonzero):
+        raise ValueError(f"transfer weights reach more than {TAPS} columns per texel")
+    return first.astype(np.int64), taps
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _mobile_share(wet):
+    return 1.0 if wet >= FULLY_WET else float(wet)
+
+
+@njit(cache=True, nogil=True)
+def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, textured,
+                      out_mobile, out_gain):  # fmt: skip
+    """Weighted sums over the texels of box (x0, y0, len(fx), len(fy)) into columns:
+    ``out_mobile`` (P, ni, nj) gets the mobile paint (times ``loss_w``, (ny, nx), when
+    ``textured``) and ``out_gain`` (ni, nj) the gain weights ``gain_w`` (when ``textured``).
+    Both are overwritten."""
+    n_p, ni, _ = out_mobile.shape
+    nx, ny = fx.shape[0], fy.shape[0]
+    out_mobile[:] = 0.0
+    out_gain[:] = 0.0
+    row = np.zeros((n_p, ni + TAPS - 1))  # padded: a texel's zero taps may pass the last column
+    row_g = np.zeros(ni + TAPS - 1)
+    for y in range(ny):
+        row[:] = 0.0
+        row_g[:] = 0.0
+        for x in range(nx):
+            share = _mobile_share(wetness[y0 + y, x0 + x])
+            if textured:
+                share *= loss_w[y, x]
+                g = gain_w[y, x]
+                for a in range(TAPS):
+                    row_g[fx[x] + a] += tx[x, a] * g
+            for p in range(n_p):
+                m = paint[p, y0 + y, x0 + x] * share
+                for a in range(TAPS):
+                    row[p, fx[x] + a] += tx[x, a] * m
+        j0 = fy[y]
+        for c in range(TAPS):
+            w = ty[y, c]
+            if w == 0.0:
+                continue
+            for i in range(ni):
+                for p in range(n_p):
+                    out_mobile[p, i, j0 + c] += w * row[p, i]
+                out_gain[i, j0 + c] += w * row_g[i]
+
+
+@njit(cache=True, nogil=True)
+def _row_values(columns, fy_y, ty_y, out):
+    """``out[p, i]`` = the column values ``columns`` (P, ni, nj) summed over j with one texel
+    row's weights (``out`` may be longer than ``ni``: the rest is left alone)."""
+    n_p, ni, _ = columns.shape
+    out[:, :ni] = 0.0
+    for c in range(TAPS):
+        w = ty_y[c]
+        if w == 0.0:
+            continue
+        j = fy_y + c
+        for p in range(n_p):
+            for i in range(ni):
+                out[p, i] += w * columns[p, i, j]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _at_texel(row, p, i0, tx_x):
+    return tx_x[0] * row[p, i0] + tx_x[1] * row[p, i0 + 1] + tx_x[2] * row[p, i0 + 2]
+
+
+@njit(cache=True, nogil=True)
+def spread_to_texels(paint, wetness, x0, y0, fx, tx, fy, ty, gain, first, rest, gain_w, loss_w,
+                     textured, new_mobile, touched, total):  # fmt: skip
+    """New mobile paint (P, ny, nx) into ``new_mobile``, the texels that changed into
+    ``touched`` (ny, nx) and their new paint (dry + new mobile, all pigments) into ``total``
+    (ny, nx), for column gains ``gain`` and loss fractions ``first`` and ``rest``
+    (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a texel gains
+    ``g * sum w gain`` and loses ``m (b * sum w first + (1 - b) * sum w rest)`` (``g``, ``b``:
+    the gain and loss weights when ``textured``, else 1 and 1). Reads the canvas only."""
+    n_p, ni, _ = gain.shape
+    nx, ny = fx.shape[0], fy.shape[0]
+    row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column
+    row_first = np.zeros((n_p, ni + TAPS - 1))
+    row_rest = np.zeros((n_p, ni + TAPS - 1))
+    for y in range(ny):
+        _row_values(gain, fy[y], ty[y], row_gain)
+        _row_values(first, fy[y], ty[y], row_first)
+        if textured:
+            _row_values(rest, fy[y], ty[y], row_rest)
+        for x in range(nx):
+            share = _mobile_share(wetness[y0 + y, x0 + x])
+            g = gain_w[y, x] if textured else 1.0
+            b = loss_w[y, x] if textured else 1.0
+            i0 = fx[x]
+            changed = False
+            t = 0.0
+            for p in range(n_p):
+                held = paint[p, y0 + y, x0 + x]
+                mobile = held * share
+                laid = g * _at_texel(row_gain, p, i0, tx[x])
+                lost = mobile * b * _at_texel(row_first, p, i0, tx[x])
+                if textured:
+                    lost += mobile * (1.0 - b) * _at_texel(row_rest, p, i0, tx[x])
+                if lost > 0.0 or laid > 0.0:
+                    changed = True
+                m = max(mobile - lost, 0.0) + laid
+                new_mobile[p, y, x] = m
+                t += held * (1.0 - share) + m
+            touched[y, x] = changed
+            total[y, x] = t
+
+
+@njit(cache=True, nogil=True)
+def close_pinholes(new_mobile, touched, total, floor):
+    """Fill pinholes in place (see :func:`paintapp.paint.columns.ColumnWindow.write_back`): a
+    touched texel off the box's edge whose paint ``total`` (dry + wet, all pigments) is at most
+    ``floor`` while its eight neighbours' all exceed twice that gets 1/9 of each neighbour's wet
+    paint, per pigment (each neighbour gives at most 8/9 of it: conserved, never negative).
+    Returns how many were filled; ``total`` is not updated."""
+    n_p, ny, nx = new_mobile.shape
+    if ny < 3 or nx < 3:
+        return 0
+    pins = []
+    for y in range(1, ny - 1):
+        for x in range(1, nx - 1):
+            if not touched[y, x] or total[y, x] > floor:
+                continue
+            hole = True
+            for dy in range(-1, 2):
+                for dx in range(-1, 2):
+                    if (dy != 0 or dx != 0) and total[y + dy, x + dx] <= 2.0 * floor:
+                        hole = False
+            if hole:
+                pins.append((y, x))
+    if len(pins) == 0:
+        return 0
+    gains = np.zeros((len(pins), n_p))
+    gives = np.zeros((ny, nx))
+    for n, (y, x) in enumerate(pins):
+        for dy in range(-1, 2):
+            for dx in range(-1, 2):
+                if dy != 0 or dx != 0:
+                    for p in range(n_p):
+                        gains[n, p] += new_mobile[p, y + dy, x + dx] / 9.0
+                    gives[y + dy, x + dx] += 1.0
+    for y in range(ny):
+        for x in range(nx):
+            if gives[y, x] > 0.0:
+                for p in range(n_p):
+                    new_mobile[p, y, x] *= 1.0 - gives[y, x] / 9.0
+                touched[y, x] = True
+    for n, (y, x) in enumerate(pins):
+        for p in range(n_p):
+            new_mobile[p, y, x] += gains[n, p]
+    return len(pins)
+
+
+@njit(cache=True, nogil=True)
+def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
+    """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
+    of the total (0 where none is left), as float32; non-finite values become 0, paint is
+    clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
+    box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the non-finite count."""
+    n_p, ny, nx = new_mobile.shape
+    bad = 0
+    bx0, by0, bx1, by1 = nx, ny, -1, -1
+    for y in range(ny):
+        for x in range(nx):
+            if not touched[y, x]:
+                continue
+            bx0, bx1 = min(bx0, x), max(bx1, x)
+            by0, by1 = min(by0, y), max(by1, y)
+            dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
+            total = 0.0
+            wet = 0.0
+            for p in range(n_p):
+                v = paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
+                total += v
+                wet += new_mobile[p, y, x]
+                f = np.float32(v)
+                if not np.isfinite(f):
+                    bad += 1
+                    f = np.float32(0.0)
+                paint[p, y0 + y, x0 + x] = min(max(f, np.float32(0.0)), np.float32(max_paint))
+            share = np.float32(wet / total) if total > 0.0 else np.float32(0.0)
+            if not np.isfinite(share):
+                bad += 1
+                share = np.float32(0.0)
+            wetness[y0 + y, x0 + x] = min(max(share, np.float32(0.0)), np.float32(1.0))
+    bounds[0], bounds[1] = x0 + bx0, y0 + by0
+    bounds[2], bounds[3] = x0 + bx1 + 1, y0 + by1 + 1
+    return bad
