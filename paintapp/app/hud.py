@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRect, QRectF, Qt
-from PySide6.QtGui import QColor, QFont, QFontMetrics, QPainter, QPen
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen
 from PySide6.QtWidgets import QWidget
 
 from paintapp.app.input import ViewMapping
@@ -107,6 +107,7 @@ class HudOverlay(QWidget):
         self._font.setStyleHint(QFont.StyleHint.Monospace)
         self._font.setPointSize(9)
         self._metrics = QFontMetrics(self._font, self)
+        self._image: QImage | None = None  # the panel, drawn once per refresh
 
     def paintEvent(self, event) -> None:
         # The canvas beneath repaints its changed rectangles every frame, and Qt repaints this
@@ -121,21 +122,40 @@ class HudOverlay(QWidget):
         if not (draw_grid or draw_text):
             return
         painter = QPainter(self)
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         if draw_grid and status.grid_m is not None:
             self._draw_grid(painter, status.grid_m)
         if draw_text:
-            text = self._draw_text(painter, hud_lines(status, self.data()))
-            gauge = self._draw_gauge(painter, status, text.bottom() + 8)
-            panel = text.united(gauge).toAlignedRect().adjusted(-2, -2, 2, 2)
-            if not area.contains(panel):
-                self.update(panel)  # the panel grew past what was repainted
-            self._panel = panel
+            if self._image is None:
+                self._image, self._panel = self._draw_panel(status)
+            painter.drawImage(self._panel.topLeft(), self._image)
+            if not area.contains(self._panel):
+                self.update(self._panel)  # the panel grew past what was repainted
         painter.end()
+
+    def _draw_panel(self, status: WorkerStatus) -> tuple[QImage, QRect]:
+        """The text panel and the force gauge, drawn into an image, and where it goes: the
+        canvas beneath repaints every frame and Qt repaints this overlay over each repainted
+        rectangle, so the panel is drawn once per :meth:`refresh` and copied in between."""
+        lines = hud_lines(status, self.data())
+        text = self._text_box(lines)
+        gauge = self._gauge_area(text.bottom() + 8)
+        panel = text.united(gauge).toAlignedRect().adjusted(-2, -2, 2, 2)
+        ratio = self.devicePixelRatioF()
+        image = QImage(panel.size() * ratio, QImage.Format.Format_ARGB32_Premultiplied)
+        image.setDevicePixelRatio(ratio)
+        image.fill(Qt.GlobalColor.transparent)
+        painter = QPainter(image)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+        painter.translate(-panel.topLeft())
+        self._draw_text(painter, lines, text)
+        self._draw_gauge(painter, status, gauge)
+        painter.end()
+        return image, panel
 
     def refresh(self) -> None:
         """Repaint what the HUD covers: its panel (with room to grow; once more after it was
         turned off) and the grid outline, where it was drawn and where it is now."""
+        self._image = None
         if self.show_text and self._panel.isEmpty():
             self.update()
             return
@@ -174,25 +194,32 @@ class HudOverlay(QWidget):
         painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect())
         painter.restore()
 
-    def _draw_text(self, painter: QPainter, lines: list[str]) -> QRectF:
+    def _text_box(self, lines: list[str]) -> QRectF:
+        """The rectangle the text panel of ``lines`` covers."""
+        metrics = self._metrics
+        width = max(metrics.horizontalAdvance(line) for line in lines) + 16
+        return QRectF(8, 8, width, metrics.height() * len(lines) + 12)
+
+    def _draw_text(self, painter: QPainter, lines: list[str], box: QRectF) -> None:
         painter.setFont(self._font)
         metrics = self._metrics
         height = metrics.height()
-        width = max(metrics.horizontalAdvance(line) for line in lines) + 16
-        box = QRectF(8, 8, width, height * len(lines) + 12)
         painter.setPen(Qt.PenStyle.NoPen)
         painter.setBrush(QColor(0, 0, 0, 160))
         painter.drawRoundedRect(box, 6, 6)
         painter.setPen(QColor(235, 235, 235))
         for i, line in enumerate(lines):
             painter.drawText(QPointF(16, 14 + metrics.ascent() + i * height), line)
-        return box
 
-    def _draw_gauge(self, painter: QPainter, status: WorkerStatus, top: float) -> QRectF:
-        """Draw the force gauge below ``top``; returns the rectangle it covers."""
-        centre = QPointF(8 + GAUGE_PX / 2 + 4, top + GAUGE_PX / 2 + 4)
+    @staticmethod
+    def _gauge_area(top: float) -> QRectF:
+        """The rectangle the force gauge below ``top`` covers."""
         rim = GAUGE_PX / 2 + 4
-        area = QRectF(centre.x() - rim, centre.y() - rim, 2 * rim, 2 * rim)
+        return QRectF(8 + GAUGE_PX / 2 + 4 - rim, top + GAUGE_PX / 2 + 4 - rim, 2 * rim, 2 * rim)
+
+    def _draw_gauge(self, painter: QPainter, status: WorkerStatus, area: QRectF) -> None:
+        """Draw the force gauge in ``area``."""
+        centre = area.center()
         painter.setPen(Qt.PenStyle.NoPen)
         painter.setBrush(QColor(0, 0, 0, 160))
         painter.drawEllipse(centre, GAUGE_PX / 2 + 4, GAUGE_PX / 2 + 4)
@@ -201,14 +228,13 @@ class HudOverlay(QWidget):
         painter.drawEllipse(centre, GAUGE_PX / 2, GAUGE_PX / 2)
         fx, fy = (float(v) for v in status.force_n[:2])
         if not (math.isfinite(fx) and math.isfinite(fy)):
-            return area
+            return
         size = math.hypot(fx, fy)
         if size < 1e-9:
-            return area
+            return
         length = GAUGE_PX / 2 * min(size / GAUGE_FULL_N, 1.0)
         tip = QPointF(centre.x() + length * fx / size, centre.y() - length * fy / size)
         painter.setPen(QPen(QColor(255, 60, 20), 3))
         painter.drawLine(centre, tip)
         painter.setBrush(QColor(255, 60, 20))
         painter.drawEllipse(tip, 3, 3)
-        return area
