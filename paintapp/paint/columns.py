@@ -46,6 +46,17 @@ from paintapp.canvas.regions import Box
 from paintapp.paint import texel_transfer as kernels
 from paintapp.paint.paint_scene import TRANSFER_KERNELS
 
+#: Samples per cell of travel that a swept change is averaged over (at least one per texel):
+#: the columns' change is smooth on the scale of a cell, and the bristle texture's streaks run
+#: along the path.
+SWEEP_SAMPLES_PER_CELL = 3
+#: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
+#: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth
+#: left there come from where the tip's faces fall within a cell, which the sweep cannot undo
+#: (measured: the demo's probe on its own 0.25 mm canvas, one texel per cell, tooth depth 0.083
+#: unswept, 0.115 swept; on the A4 sheet, two texels per cell, 0.184 unswept, 0.108 swept).
+SWEEP_MIN_TEXELS = 2
+
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
 FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
@@ -153,15 +164,21 @@ class ColumnWindow:
             mask[r[0] : r[1], r[2] : r[3]] = True
         return mask
 
-    def _texel_block(self, r: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    def _texel_block(
+        self, r: tuple[int, int, int, int], behind: tuple[float, float] = (0.0, 0.0)
+    ) -> tuple[int, int, int, int]:
         """Texels (x0, y0, x1, y1), half-open and clipped to the canvas, that the weights of
-        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and :func:`reach_cells` around)."""
+        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and :func:`reach_cells` around),
+        and as far again as ``behind`` (texels, x and y) back the way the tip came."""
         i0, i1, j0, j1 = r
         ox, oy = self.origin_texel
         k, (w, h) = self.k, self.pixels
         m = reach_cells(k, self.kernel)
-        x0, x1 = max(0, ox + (i0 - m) * k), min(w, ox + (i1 + m) * k)
-        y0, y1 = max(0, oy + (j0 - m) * k), min(h, oy + (j1 + m) * k)
+        bx, by = (math.ceil(abs(v)) + 1 if abs(v) >= 0.5 else 0 for v in behind)
+        x0 = max(0, ox + (i0 - m) * k - (bx if behind[0] > 0 else 0))
+        x1 = min(w, ox + (i1 + m) * k + (bx if behind[0] < 0 else 0))
+        y0 = max(0, oy + (j0 - m) * k - (by if behind[1] > 0 else 0))
+        y1 = min(h, oy + (j1 + m) * k + (by if behind[1] < 0 else 0))
         return x0, y0, x1, y1
 
     def _weights(
@@ -198,6 +215,7 @@ class ColumnWindow:
         delta_m: np.ndarray,
         texture: TexelWeights | None = None,
         gathered: np.ndarray | None = None,
+        sweep_texels: tuple[float, float] | None = None,
     ) -> None:
         """Apply a change of mobile paint per column, (P, nx, ny) metres, to the texels.
 
@@ -206,7 +224,9 @@ class ColumnWindow:
         ``gathered`` is what :meth:`gather` returned for this canvas, unchanged since (a step
         passes it on; otherwise it is gathered again): thin films are dropped column by column
         first, so only the texels of columns whose change survives are read and written (the
-        transport's thin tails reach the whole grid). The texels are read and written by
+        transport's thin tails reach the whole grid). ``sweep_texels``, the tip's travel during
+        the step (texels, x and y), lays the change along that path
+        (:func:`paintapp.paint.texel_transfer.sweep_change`). The texels are read and written by
         :mod:`paintapp.paint.texel_transfer`'s kernels; only the texels that changed are written
         and marked dirty."""
         r = self.on_canvas_range()
@@ -226,7 +246,9 @@ class ColumnWindow:
         a0, a1, b0, b1 = ci.min(), ci.max() + 1, cj.min(), cj.max() + 1
         sub = (r[0] + a0, r[0] + a1, r[2] + b0, r[2] + b1)
         change, owned = change[:, a0:a1, b0:b1], held[:, a0:a1, b0:b1]
-        box = self._texel_block(sub)
+        if self.k < SWEEP_MIN_TEXELS:
+            sweep_texels = None
+        box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
         wx, wy = self._weights(sub, box)
         shape = texture.weights(box) if texture is not None else None
         args = (
@@ -255,6 +277,10 @@ class ColumnWindow:
         total = np.empty((ny, nx))
         kernels.spread_to_texels(*args, *rates, gain_w, loss_w, shape is not None, new_mobile,
                                  touched, total)  # fmt: skip
+        if sweep_texels is not None:
+            kernels.sweep_change(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile,
+                                 touched, total, float(sweep_texels[0]), float(sweep_texels[1]),
+                                 self.k / SWEEP_SAMPLES_PER_CELL)  # fmt: skip
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         bounds = np.zeros(4, np.int64)
         kernels.store_texels(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile, touched,

@@ -180,8 +180,9 @@ class PaintGridDepthAveraged(PaintModel):
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before)[..., 0]
         self.window.write_back(
-            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns
-        )
+            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns,
+            sweep_texels=self.sweep_texels(),
+        )  # fmt: skip
         clock.mark("write")
         force, torque = self._tip_force()
         return PaintStep(

@@ -166,7 +166,8 @@ class PaintGrid3D(PaintModel):
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before).sum(axis=3) * h
         texture = self.texture(pose, centre_m)
-        self.window.write_back(self.canvas, delta, texture, gathered=all_columns)
+        self.window.write_back(self.canvas, delta, texture, gathered=all_columns,
+                               sweep_texels=self.sweep_texels())  # fmt: skip
         if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
             try:
                 substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, texture)

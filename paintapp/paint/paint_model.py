@@ -169,6 +169,10 @@ class PaintModel(ABC):
         #: Direction of the tip's last lateral motion (canvas plane): the bristles' streaks
         #: run along it.
         self.heading = np.array([0.0, 1.0])
+        #: The tip's travel (m, x and y) during the current sub-step (zero without ``sweep``).
+        self.travel_m = np.zeros(2)
+        #: Where the tip last touched down (m, x and y).
+        self.touched_down_m = np.zeros(2)
 
     def solver_settings(self) -> SolverSettings:
         """The scene's solver settings, with no force work when nothing reads the force."""
@@ -203,6 +207,7 @@ class PaintModel(ABC):
         """The brush enters the paint at ``pose``: centre the window there, fluid at rest."""
         self.window.place(float(pose.position_m[0]), float(pose.position_m[1]))
         self.pose = pose
+        self.touched_down_m = np.asarray(pose.position_m[:2], dtype=float).copy()
         yaw = yaw_angle(pose.orientation)
         self.heading = np.array([-math.sin(yaw), math.cos(yaw)])  # body y: a flat brush's stroke
         self._reset(pose)
@@ -266,6 +271,9 @@ class PaintModel(ABC):
             min(by_travel, scene.max_travel_substeps),
         )
         result = PaintStep()
+        away = float(np.hypot(*(start.position_m[:2] - self.touched_down_m)))
+        sweep = scene.sweep and away >= 2.0 * self.footprint_radius_m(start)
+        self.travel_m = move / n if sweep else np.zeros(2)
         for s in range(n):
             f = (s + 1) / n
             centre = (1.0 - f) * start.position_m + f * pose.position_m
@@ -300,6 +308,14 @@ class PaintModel(ABC):
             self._shifted(di, dj)
         return di, dj
 
+    def sweep_texels(self) -> tuple[float, float] | None:
+        """The tip's travel during the current sub-step in texels (x, y), which the write-back
+        lays the step's change along; None without travel (or with the scene's ``sweep`` off)."""
+        if not self.travel_m.any():
+            return None
+        t = self.window.texel_m
+        return float(self.travel_m[0] / t), float(self.travel_m[1] / t)
+
     def texture(self, pose: TipPose, centre_m: np.ndarray) -> BristleTexture | None:
         """The brush's bristle texture for a step with the apex at ``centre_m``, or None for a
         preset without bristles."""
@@ -309,7 +325,7 @@ class PaintModel(ABC):
         h = self.cell_size_m
         depth = max(pose.press_depth_m + pose.compression_m, section_height_m(pose, h))
         tip = self.preset.tip(pose.splay)
-        lateral = max(tip.support(d) for d in np.vstack([np.eye(3)[:2], -np.eye(3)[:2]]))
+        lateral = self.footprint_radius_m(pose) / math.sqrt(2.0)
         return BristleTexture(
             bristles,
             Section(tip, depth),
@@ -320,6 +336,13 @@ class PaintModel(ABC):
             h,
             math.sqrt(2.0) * lateral,
         )
+
+    def footprint_radius_m(self, pose: TipPose) -> float:
+        """The largest distance from the apex the tip (splayed as at ``pose``) reaches in the
+        canvas plane, at most: its extent along body x and y, times sqrt(2)."""
+        tip = self.preset.tip(pose.splay)
+        lateral = max(tip.support(d) for d in np.vstack([np.eye(3)[:2], -np.eye(3)[:2]]))
+        return math.sqrt(2.0) * lateral
 
     def plough(
         self, grid: Grid, centre_m: np.ndarray, velocity_m_s: np.ndarray, dt_s: float

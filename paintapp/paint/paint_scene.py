@@ -22,6 +22,7 @@ A scene file::
     settle_on_lift = true           # the paint flows back into the tip's footprint at lift-off
     texel_flow = false              # grid3d: true lets the grid's flow move the canvas's texels
                                     # (false: the columns' transported change is spread to them)
+    sweep = true                    # a step's change is laid along the path the tip swept
     transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
                                     # (a half cell crisper at the stroke's edges, a faint lattice)
 
@@ -129,6 +130,9 @@ class PaintScene:
         texel_flow: the 3D grid's depth-averaged flow moves the canvas's wet paint on the
             texels (:mod:`paintapp.paint.wet_flow`); False transports the paint in the grid's
             columns and spreads each column's change over its texels.
+        sweep: a step's change of the canvas paint is laid along the path the tip swept during
+            the step, not at its end pose alone (:func:`paintapp.paint.texel_transfer.sweep_change`);
+            False prints one tooth per step along a fast stroke.
         transfer: the kernel that trades paint between the grid's columns and the texels
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
             or ``"tent"`` (reaches half a cell less beyond a stroke, but its slope jumps at
@@ -156,6 +160,7 @@ class PaintScene:
     max_height_m: float = 0.002
     settle_on_lift: bool = True
     texel_flow: bool = False
+    sweep: bool = True
     transfer: str = "bspline"
     pickup_fraction: float = 0.3
     deposit_length_m: float = 0.04
@@ -227,6 +232,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         ),
         settle_on_lift=_boolean(paint, "settle_on_lift", True),
         texel_flow=_boolean(paint, "texel_flow", False),
+        sweep=_boolean(paint, "sweep", True),
         transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),

@@ -88,8 +88,9 @@ class StampModel(PaintModel):
         if deposited.sum() > 0.0:
             q += deposited[:, None, None] / area * (room / room.sum())[None]
         self.window.write_back(
-            self.canvas, q - columns, self.texture(pose, centre_m), gathered=columns
-        )
+            self.canvas, q - columns, self.texture(pose, centre_m), gathered=columns,
+            sweep_texels=self.sweep_texels(),
+        )  # fmt: skip
         report = ExchangeReport(
             swept_m3=float(under.sum()),
             picked_up_m3=float(sum(taken.values())),

@@ -20,6 +20,9 @@ from numba import njit
 #: Columns one texel's weights reach on one axis at most.
 TAPS = 3
 
+#: Most samples along the path that a swept change is averaged over.
+MAX_SWEEP_SAMPLES = 16
+
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
 
@@ -226,3 +229,130 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
     bounds[0], bounds[1] = x0 + bx0, y0 + by0
     bounds[2], bounds[3] = x0 + bx1 + 1, y0 + by1 + 1
     return bad
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _bilinear(field, x, y):
+    """``field`` (ny, nx) at texel coordinates (x, y) (texel centres at whole numbers), linear in
+    between and 0 beyond the edge texels' neighbours."""
+    ny, nx = field.shape
+    i0, j0 = int(np.floor(x)), int(np.floor(y))
+    fx, fy = x - i0, y - j0
+    v = 0.0
+    for dj in range(2):
+        j = j0 + dj
+        if j < 0 or j >= ny:
+            continue
+        wy = fy if dj else 1.0 - fy
+        for di in range(2):
+            i = i0 + di
+            if 0 <= i < nx:
+                v += wy * (fx if di else 1.0 - fx) * field[j, i]
+    return v
+
+
+@njit(cache=True, nogil=True)
+def _swept(field, pad_x, pad_y, dx, dy, samples, out):
+    """``out`` (ny, nx) = the mean of ``field`` moved back along the path (dx, dy): ``field`` read
+    at ``(k + 1/2) / samples`` of the way ahead, bilinearly. ``field`` is (ny, nx) padded with
+    ``pad_y`` rows and ``pad_x`` columns of zeros on every side (at least ``|d| + 1``); returns
+    the sum of ``out``."""
+    ny, nx = out.shape
+    out[:] = 0.0
+    for k in range(samples):
+        s = (k + 0.5) / samples
+        ox, oy = s * dx, s * dy
+        i0, j0 = int(np.floor(ox)), int(np.floor(oy))
+        fx, fy = ox - i0, oy - j0
+        w00, w10, w01, w11 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        for y in range(ny):
+            ya = y + pad_y + j0
+            dst = out[y]
+            row_a, row_b = field[ya], field[ya + 1]
+            for x in range(nx):
+                xa = x + pad_x + i0
+                dst[x] += (
+                    w00 * row_a[xa] + w10 * row_a[xa + 1] + w01 * row_b[xa] + w11 * row_b[xa + 1]
+                )
+    total = 0.0
+    for y in range(ny):
+        for x in range(nx):
+            out[y, x] /= samples
+            total += out[y, x]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing):
+    """Lay a step's change of mobile paint along the path the tip swept, in place.
+
+    The step changed each texel's mobile paint ``m`` to ``new_mobile`` with the tip at its end
+    pose; during the step the tip came from ``(dx, dy)`` texels back. Per pigment, the gains
+    ``g = max(new - m, 0)`` are laid as their mean moved back along that path,
+    ``g_s(x) = mean over s in (0, 1) of g(x + s d)`` (bilinear, a sample every ``spacing``
+    texels of travel or closer, at most :data:`MAX_SWEEP_SAMPLES` (a stalled session's long
+    catch-up step): every value moves whole, so the total is kept when the box
+    reaches ``|d|`` texels behind the change); the losses as the same mean of the *fraction*
+    each texel lost, ``f = max(m - new, 0) / m``, times the texel's own paint, scaled so that the
+    total loss is kept (water-filling: a texel the scaling would take past all it holds is
+    emptied, the rest scaled again). A texel thus never loses more than it holds, and only paint
+    that was there is taken. A pigment whose swept totals miss by more than round-off (the box
+    cut short at the canvas's edge) keeps its unswept change. ``touched`` and ``total`` (as
+    :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept."""
+    n_p, ny, nx = new_mobile.shape
+    travel = max(abs(dx), abs(dy))
+    if travel < 0.5:
+        return False
+    samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
+    pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
+    gain = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept`
+    frac = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
+    gain_s = np.empty((ny, nx))
+    frac_s = np.empty((ny, nx))
+    mobile = np.empty((ny, nx))
+    done = False
+    for p in range(n_p):
+        gained, lost = 0.0, 0.0
+        for y in range(ny):
+            for x in range(nx):
+                m = paint[p, y0 + y, x0 + x] * _mobile_share(wetness[y0 + y, x0 + x])
+                mobile[y, x] = m
+                c = new_mobile[p, y, x] - m
+                gain[pad_y + y, pad_x + x] = max(c, 0.0)
+                frac[pad_y + y, pad_x + x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
+                gained += max(c, 0.0)
+                lost += max(-c, 0.0)
+        if gained == 0.0 and lost == 0.0:
+            continue
+        swept = _swept(gain, pad_x, pad_y, dx, dy, samples, gain_s)
+        if abs(swept - gained) > 1e-9 * (gained + lost):
+            continue  # the box was cut short behind the change (the canvas's edge)
+        _swept(frac, pad_x, pad_y, dx, dy, samples, frac_s)
+        scale, taken = 1.0, 0.0
+        for _ in range(32):
+            taken = 0.0
+            for y in range(ny):
+                for x in range(nx):
+                    taken += min(scale * frac_s[y, x], 1.0) * mobile[y, x]
+            if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
+                break
+            scale *= lost / taken
+        if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
+            continue  # the swept fractions meet too little paint: keep the unswept change
+        for y in range(ny):
+            for x in range(nx):
+                take = min(scale * frac_s[y, x], 1.0) * mobile[y, x]
+                new = max(mobile[y, x] - take, 0.0) + gain_s[y, x]
+                if new != mobile[y, x]:
+                    touched[y, x] = True
+                new_mobile[p, y, x] = new
+        done = True
+    if done:
+        for y in range(ny):
+            for x in range(nx):
+                dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
+                t = 0.0
+                for p in range(n_p):
+                    t += paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
+                total[y, x] = t
+    return done

@@ -1,0 +1,65 @@
+"""A step's change laid along the path the tip swept (texel_transfer.sweep_change)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from paintapp.paint.texel_transfer import sweep_change
+
+
+def canvas_and_change(rng: np.random.Generator, pigments: int = 2):
+    """A (P, 40, 60) wet canvas, its box at (5, 3) of (30, 50) texels, and new mobile paint
+    there: a gain ahead of a patch that lost paint, as a tip leaves them."""
+    paint = rng.uniform(1e-6, 1e-5, (pigments, 40, 60)).astype(np.float32)
+    wet = np.ones((40, 60), np.float32)
+    mobile = paint[:, 3:33, 5:55].astype(np.float64)
+    new = mobile.copy()
+    new[:, 10:20, 30:36] *= 0.2  # taken away
+    new[:, 10:20, 36:40] += 2e-5  # heaped ahead
+    return paint, wet, mobile, new
+
+
+def test_gains_are_laid_as_their_mean_along_the_path_and_totals_kept():
+    rng = np.random.default_rng(1)
+    paint, wet, mobile, new = canvas_and_change(rng)
+    out = new.copy()
+    touched = np.zeros((30, 50), bool)
+    total = np.zeros((30, 50))
+    assert sweep_change(paint, wet, 5, 3, out, touched, total, 4.0, 0.0, 1.0)
+    change, swept = new - mobile, out - mobile
+    np.testing.assert_allclose(swept.sum(axis=(1, 2)), change.sum(axis=(1, 2)), rtol=1e-9)
+    assert out.min() >= 0.0
+    # samples at 0.5, 1.5, 2.5, 3.5 texels ahead: each the mean of two neighbours
+    gain = np.maximum(change, 0.0)
+    padded = np.pad(gain, ((0, 0), (0, 0), (0, 6)))
+    expected = sum(padded[:, :, k : k + 50] + padded[:, :, k + 1 : k + 51] for k in range(4)) / 8
+    # from texel 36 on no loss reaches (the losses at 30-35 move back to 26-35)
+    np.testing.assert_allclose(swept[:, :, 36:], expected[:, :, 36:], rtol=1e-12, atol=1e-20)
+    assert expected[:, :, 36:].max() > 0.0 and not np.allclose(swept, change)
+    assert touched[10:20, 26:40].all() and not touched[:5].any()
+    np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)  # all wet: no dry part
+
+
+def test_losses_never_take_more_than_a_texel_holds():
+    rng = np.random.default_rng(2)
+    paint, wet, _, _ = canvas_and_change(rng)
+    wet[13:23, 20:40] = 0.5  # half dry there: only the wet half may move
+    mobile = paint[:, 3:33, 5:55].astype(np.float64) * wet[3:33, 5:55]
+    new = mobile.copy()
+    new[:, 10:20, 30:36] = 0.0  # all the wet paint taken, next to texels that keep theirs
+    new[:, 10:20, 36:40] += 2e-5
+    out = new.copy()
+    sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 7.5, -2.5,
+                 1.0)  # fmt: skip
+    assert out.min() >= 0.0 and not np.array_equal(out, new)
+    np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
+
+
+def test_no_travel_or_a_box_cut_short_leaves_the_change_unswept():
+    rng = np.random.default_rng(3)
+    paint, wet, _, new = canvas_and_change(rng)
+    for travel, box_x in (((0.2, 0.1), 5), ((-30.0, 0.0), 5)):  # too short; reaching past the box
+        out = new.copy()
+        sweep_change(paint, wet, box_x, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)),
+                     *travel, 1.0)  # fmt: skip
+        np.testing.assert_array_equal(out, new)
