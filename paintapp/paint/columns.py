@@ -49,7 +49,7 @@ from paintapp.paint.paint_scene import TRANSFER_KERNELS
 #: Samples per cell of travel that a swept change is averaged over (at least one per texel):
 #: the columns' change is smooth on the scale of a cell, and the bristle texture's streaks run
 #: along the path.
-SWEEP_SAMPLES_PER_CELL = 3
+SWEEP_SAMPLES_PER_CELL = 2
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
 #: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth
 #: left there come from where the tip's faces fall within a cell, which the sweep cannot undo
