@@ -21,7 +21,7 @@ from numba import njit
 TAPS = 3
 
 #: Most samples along the path that a swept change is averaged over.
-MAX_SWEEP_SAMPLES = 8
+MAX_SWEEP_SAMPLES = 4
 
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
