@@ -10,8 +10,9 @@ grid, the canvas, the lit impasto render) and cropped at two screen pixels per t
   a dry cadmium yellow layer.
 
 *After* is the paint as it is now. *Before* is the same strokes without the bristle texture
-(brush presets stripped of ``[bristles]``) and without the paint closing over the tip's footprint
-at lift-off (``settle_on_lift = false``): the paint transfer as it was before those two. (The
+(brush presets stripped of ``[bristles]``), without the paint closing over the tip's footprint
+at lift-off (``settle_on_lift = false``) and with each step's change laid at its end pose
+(``sweep = false``): the paint transfer as it was before those three. (The
 box spread that the tent kernel replaced earlier is no longer selectable, so it is not shown.)
 Writes ``<piece>-before.png`` and ``<piece>-after.png`` into DIR (default ``docs/gallery``).
 """
@@ -103,7 +104,7 @@ def _scene(name: str, before: bool):
     from paintapp.paint.paint_scene import load_paint_scene
 
     scene = load_paint_scene(name)
-    return dataclasses.replace(scene, settle_on_lift=False) if before else scene
+    return dataclasses.replace(scene, settle_on_lift=False, sweep=False) if before else scene
 
 
 def _brush_dir(before: bool, folder: Path) -> Path | None:
