@@ -28,7 +28,10 @@ pigments, so its total of dry paint is kept, not each pigment's). Texels whose c
 zero are not touched (bit-exact), and texel totals change by exactly ``k^2`` times the column
 change (to round-off), so paint is conserved. Columns not wholly on the canvas hold no paint and
 are walls; a column at the canvas edge has its weights clipped there (its gains are normalised over
-the texels it reaches).
+the texels it reaches). Where a cell spans two texels or more, a step's change is laid along the
+path the tip travelled during the step (:func:`paintapp.paint.texel_transfer.sweep_change`), so a
+fast stroke leaves no tooth per step. The texel passes are numba kernels
+(:mod:`paintapp.paint.texel_transfer`).
 """
 
 from __future__ import annotations
@@ -46,9 +49,9 @@ from paintapp.canvas.regions import Box
 from paintapp.paint import texel_transfer as kernels
 from paintapp.paint.paint_scene import TRANSFER_KERNELS
 
-#: Samples per cell of travel that a swept change is averaged over (at least one per texel):
-#: the columns' change is smooth on the scale of a cell, and the bristle texture's streaks run
-#: along the path.
+#: Samples per cell of travel that a swept change is averaged over (at most
+#: :data:`paintapp.paint.texel_transfer.MAX_SWEEP_SAMPLES`): the columns' change is smooth on the
+#: scale of a cell, and the bristle texture's streaks run along the path.
 SWEEP_SAMPLES_PER_CELL = 2
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
 #: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth
@@ -63,7 +66,7 @@ FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
 
 
 class TexelWeights(Protocol):
-    """Per-texel weights shaping a column change (see :func:`_spread_change`)."""
+    """Per-texel weights shaping a column change (see :func:`column_rates`)."""
 
     def weights(self, box: Box) -> tuple[np.ndarray, np.ndarray] | None:
         """(gain, loss) weights (ny, nx) over ``box``: gains > 0, losses in (0, 1]; or None

@@ -10,6 +10,10 @@ the array form; the lock is released throughout.
 
 A texel's *mobile* paint is its paint times its wetness, the wetness read as 1 from
 :data:`FULLY_WET` up (float32 round-off of fresh paint is no dry residue).
+
+:func:`sweep_change` then lays a step's change along the path the tip travelled during the step
+(a step computes it with the tip at its end pose only, which printed one tooth per step along a
+fast stroke).
 """
 
 from __future__ import annotations
