@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from common.errors import InputError
+from paintapp.paint.paint_scene import parse_paint_scene
 from paintapp.paint.texel_transfer import sweep_change
 
 
@@ -63,3 +66,11 @@ def test_no_travel_or_a_box_cut_short_leaves_the_change_unswept():
         sweep_change(paint, wet, box_x, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)),
                      *travel, 1.0)  # fmt: skip
         np.testing.assert_array_equal(out, new)
+
+
+def test_sweep_is_a_scene_switch_and_a_bad_value_names_the_key():
+    assert parse_paint_scene({}, "s").sweep is True
+    assert parse_paint_scene({"paint": {"sweep": False}}, "s").sweep is False
+    with pytest.raises(InputError) as err:
+        parse_paint_scene({"paint": {"sweep": 1}}, "s", "my_scene.toml")
+    assert err.value.key == "paint.sweep" and "my_scene.toml" in str(err.value)
