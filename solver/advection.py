@@ -19,6 +19,9 @@ from solver.interp import lerp, range_at, velocity_in_cells
 LINEAR = 0
 MACCORMACK = 1
 SCHEMES = {"linear": LINEAR, "maccormack": MACCORMACK}
+#: What ``SolverSettings.advection`` may name: a scheme, or ``none`` (Stokes flow: the velocity's
+#: self-advection is left out, for flows whose Reynolds number is far below 1).
+ADVECTION_CHOICES = (*SCHEMES, "none")
 
 
 @njit(cache=True, nogil=True, inline="always")

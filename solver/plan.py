@@ -96,6 +96,13 @@ def _time_step(sim: Simulation, dt_s: float) -> Decision:
 
 
 def _advection(sim: Simulation) -> Decision:
+    if sim.settings.advection == "none":
+        return Decision(
+            "advection",
+            "none (Stokes flow)",
+            "solver.advection = none: the velocity's self-advection is left out, right where "
+            "the Reynolds number is far below 1 (creeping flow)",
+        )
     if sim.settings.advection == "maccormack":
         return Decision(
             "advection",

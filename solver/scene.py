@@ -17,7 +17,7 @@ import numpy as np
 
 from common.errors import InputError
 from common.tables import Table
-from solver.advection import SCHEMES
+from solver.advection import ADVECTION_CHOICES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.drag_models import MODELS
 from solver.grid import Grid
@@ -306,7 +306,7 @@ def _line(t: Table, grid: Grid) -> LineOutput:
 
 def _settings(t: Table) -> SolverSettings:
     s = SolverSettings(
-        advection=t.string("advection", "linear", choices=sorted(SCHEMES)),
+        advection=t.string("advection", "linear", choices=list(ADVECTION_CHOICES)),
         pressure_tolerance=t.number(
             "pressure_tolerance", 1e-6, minimum=0.0, exclusive=True, maximum=1.0
         ),

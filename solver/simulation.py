@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from solver import drag_models
-from solver.advection import SCHEMES, advect
+from solver.advection import ADVECTION_CHOICES, SCHEMES, advect
 from solver.boundary import DomainBoundary
 from solver.cut_forces import cut_surface_force
 from solver.cut_geometry import CutGeometry
@@ -123,8 +123,8 @@ class Simulation:
         self.boundary = boundary or DomainBoundary(grid)
         self.probes = list(probes or [])
         self.settings = settings or SolverSettings()
-        if self.settings.advection not in SCHEMES:
-            raise ValueError(f"advection must be one of {sorted(SCHEMES)}")
+        if self.settings.advection not in ADVECTION_CHOICES:
+            raise ValueError(f"advection must be one of {ADVECTION_CHOICES}")
         if self.settings.force_model not in drag_models.MODELS:
             raise ValueError(f"force_model must be one of {drag_models.MODELS}")
         if self.settings.boundary_method not in BOUNDARY_METHODS:
@@ -175,10 +175,15 @@ class Simulation:
         vel = (st.comps[0], st.comps[1], st.comps[2])
         if self._needs_previous_state():
             self._previous = (vel, st.label.copy())
-        scheme = SCHEMES[cfg.advection]
-        new = [
-            advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme) for a in range(g.dim)
-        ]
+        if cfg.advection == "none":  # Stokes flow: no self-advection, the velocity carries over
+            keep = self._needs_previous_state()  # the momentum balance keeps the old arrays
+            new = [st.comps[a].copy() if keep else st.comps[a] for a in range(g.dim)]
+        else:
+            scheme = SCHEMES[cfg.advection]
+            new = [
+                advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme)
+                for a in range(g.dim)
+            ]
         for a in range(g.dim):
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]

@@ -3,8 +3,9 @@
 - ``painting_models``: the same strokes with ``choice = full3d`` (the 3D grid everywhere, the
   scene's full grid, every pigment channel, fluid even for a dry brush: nothing left out),
   ``default`` (the default scene as shipped: 3D grid, channels in use, no fluid for a dry brush),
-  ``fit`` (the default scene with grids fitted to the brush) and ``auto`` (the ``auto`` scene:
-  depth-averaged or 3D by paint thickness, fitted grids). Errors are against ``full3d``; the cost
+  ``fit`` (the default scene with grids fitted to the brush), ``stokes`` (the default scene
+  without momentum advection in creeping paint, ``choose.stokes_below_re = 0.1``) and ``auto``
+  (the ``auto`` scene: depth-averaged or 3D by paint thickness, fitted grids). Errors are against ``full3d``; the cost
   includes the speed-up over it in the same run.
 - ``painting_fidelity``: the strokes at ``draft``, ``standard`` and ``high``; errors against
   ``high``.
@@ -32,7 +33,7 @@ from paintapp.session.explain import choice_summary
 from paintapp.session.playback import ReplayResult, replay
 from paintapp.strokes.files import StrokeFile, read_strokes
 
-CHOICES = ("full3d", "default", "fit", "auto")
+CHOICES = ("full3d", "default", "fit", "stokes", "auto")
 _REFERENCES: dict[tuple[str, str], tuple[ReplaySnapshot, float, Measurement]] = {}
 _WARM: set[str] = set()
 
@@ -52,6 +53,8 @@ def _replay_choice(strokes: StrokeFile, choice: str) -> ReplayResult:
         scene = replace(default, choose=FULL_MODEL)
     elif choice == "fit":
         scene = replace(default, choose=replace(default.choose, fit_grid=True))
+    elif choice == "stokes":
+        scene = replace(default, choose=replace(default.choose, stokes_below_re=0.1))
     elif choice in ("default", "auto"):
         scene = load_paint_scene(choice)
     else:

@@ -23,6 +23,9 @@ decision with its reason. The rules, in order:
    all for an input-only device, no torque for a device without torque output.
 6. **Pigment channels** (``used_pigments``): only those in the window or the brush, per step
    (in the models).
+7. **Inertia** (``stokes_below_re``): a solver step leaves out the fluid's momentum advection
+   while the paint's Reynolds number at the tip is below this (creeping flow; per step, in the
+   models: :meth:`~paintapp.paint.paint_model.PaintModel.step_settings`).
 """
 
 from __future__ import annotations
@@ -82,13 +85,14 @@ class TimedDecision:
 class ChoiceStats:
     """Counts of what ran: paint steps and solver steps per model kind, steps per grid (plan
     label), steps per number of pigment channels, model switches and refits, and paint-step
-    wall time per kind (ms)."""
+    wall time per kind (ms), and solver steps taken as Stokes flow per kind."""
 
     steps: Counter = field(default_factory=Counter)
     solver_steps: Counter = field(default_factory=Counter)
     grids: Counter = field(default_factory=Counter)
     channels: Counter = field(default_factory=Counter)
     step_ms: Counter = field(default_factory=Counter)
+    stokes_steps: Counter = field(default_factory=Counter)
     switches: int = 0
     refits: int = 0
 

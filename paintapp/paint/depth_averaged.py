@@ -165,6 +165,7 @@ class PaintGridDepthAveraged(PaintModel):
         yaw = unwrap_angle(yaw_angle(pose.orientation), float(probe.orientation))
         probe.drive_to(np.asarray(centre_m[:2], dtype=float), yaw, dt_s)
         clock.mark("read")
+        sim.settings = self.step_settings()
         try:
             sim.step(dt_s)
             clock.mark("solver")
@@ -186,8 +187,9 @@ class PaintGridDepthAveraged(PaintModel):
         clock.mark("write")
         force, torque = self._tip_force()
         return PaintStep(
-            force, torque, 1, substeps, report, clock.total_ms, clock.ms, channels=len(used)
-        )
+            force, torque, 1, substeps, report, clock.total_ms, clock.ms, channels=len(used),
+            stokes_steps=int(sim.settings.advection == "none"),
+        )  # fmt: skip
 
     def _tip_force(self) -> tuple[np.ndarray, ...]:
         """Force (N) and torque (N m) on the tip: the per-depth 2D values times ``H_ref``."""

@@ -5,10 +5,14 @@ A preset is a small table of knobs applied on top of a painting scene (:func:`ap
 ============  ==========  ========  ==========  ===========  ===========  ===========
 preset        cell scale  nz scale  pressure    viscosity    advection    max step
 ============  ==========  ========  ==========  ===========  ===========  ===========
-``draft``     0.75        0.75      tol 1e-4    tol 1e-5     linear       the scene's
+``draft``     0.75        0.75      tol 1e-4    tol 1e-3     see below    the scene's
 ``standard``  --          --        --          --           --           --
 ``high``      1.5         1.5       tol 1e-7    tol 1e-8     maccormack   1/120 s
 ============  ==========  ========  ==========  ===========  ===========  ===========
+
+``draft`` leaves the fluid's momentum advection out while the paint's Reynolds number at the tip
+is below 0.1 (``choose.stokes_below_re``, :mod:`paintapp.paint.choice`; linear advection above);
+``standard`` does as the scene says (the bundled scenes always advect); ``high`` always advects.
 
 ``standard`` is the scene exactly as written. The cell scale multiplies the grid's cells (the grid
 keeps its span in brush widths, so the cells get smaller: the cell edge is a whole number of canvas
@@ -40,6 +44,7 @@ class Fidelity:
         pressure_tolerance, viscosity_tolerance: relative residuals of the PCG solves.
         max_iterations: iteration cap of each solve.
         advection: ``linear`` or ``maccormack`` (the fluid velocity's self-advection).
+        stokes_below_re: replaces the scene's ``choose.stokes_below_re`` (0: always advect).
         max_step_s: longest solver step, s (never longer than the scene's).
         description: one line for ``--help`` and ``--explain``.
     """
@@ -52,6 +57,7 @@ class Fidelity:
     max_iterations: int | None = None
     advection: str | None = None
     max_step_s: float | None = None
+    stokes_below_re: float | None = None
     description: str = ""
 
 
@@ -59,12 +65,12 @@ FIDELITIES: dict[str, Fidelity] = {
     f.name: f
     for f in (
         Fidelity(
-            "draft", 0.75, 0.75, 1e-4, 1e-5, 200, "linear",
-            description="interactive: 0.75x cells, loose tolerances, linear advection",
+            "draft", 0.75, 0.75, 1e-4, 1e-3, 200, "linear", stokes_below_re=0.1,
+            description="interactive: 0.75x cells, loose tolerances, Stokes flow below Re 0.1",
         ),
         Fidelity("standard", description="the scene as written"),
         Fidelity(
-            "high", 1.5, 1.5, 1e-7, 1e-8, 1000, "maccormack", 1.0 / 120.0,
+            "high", 1.5, 1.5, 1e-7, 1e-8, 1000, "maccormack", 1.0 / 120.0, 0.0,
             description="final render: 1.5x cells, tight tolerances, MacCormack, 120 Hz steps",
         ),
     )
@@ -111,6 +117,10 @@ def apply_fidelity(scene: PaintScene, fidelity: str | Fidelity) -> PaintScene:
         advection=f.advection or s.advection,
     )
     step = min(scene.max_step_s, f.max_step_s) if f.max_step_s else scene.max_step_s
-    if solver == s and cells == scene.cells and step == scene.max_step_s:
+    choose = scene.choose
+    if f.stokes_below_re is not None:
+        choose = replace(choose, stokes_below_re=f.stokes_below_re)
+    if solver == s and cells == scene.cells and step == scene.max_step_s and choose == scene.choose:
         return scene
-    return replace(scene, cells=cells, margin_cells=margin, max_step_s=step, solver=solver)
+    return replace(scene, cells=cells, margin_cells=margin, max_step_s=step, solver=solver,
+                   choose=choose)  # fmt: skip

@@ -146,6 +146,7 @@ class PaintGrid3D(PaintModel):
             None if sim.cut is None else sim.cut.fluid_frac.copy(),
         )
         clock.mark("read")
+        sim.settings = self.step_settings()
         try:
             sim.step(dt_s)
             clock.mark("solver")
@@ -185,6 +186,7 @@ class PaintGrid3D(PaintModel):
             force_n=force,
             torque_nm=torque,
             solver_steps=1,
+            stokes_steps=int(sim.settings.advection == "none"),
             transport_substeps=substeps,
             exchange=report,
             step_ms=clock.total_ms,

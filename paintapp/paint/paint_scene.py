@@ -32,7 +32,7 @@ A scene file::
 
     [solver]                        # optional
     pressure_tolerance = 1e-5
-    viscosity_tolerance = 1e-6
+    viscosity_tolerance = 1e-4      # forces within 5e-6 (relative) of a 1e-10 solve's
     max_iterations = 400
     boundary_method = "cutcell"     # cutcell | staircase; also pressure_scheme, preconditioner,
                                     # viscosity_preconditioner as in a solver scene
@@ -43,6 +43,8 @@ A scene file::
     dry_brush = true                # no fluid for an empty brush over dry canvas
     fit_grid = false                # size the grid to the brush's footprint, not [grid] cells
     used_pigments = true            # carry only the pigments in use through the grid
+    stokes_below_re = 0.0           # no momentum advection while the tip's Reynolds number is
+                                    # below this (creeping paint, e.g. 0.1); 0 always advects
 """
 
 from __future__ import annotations
@@ -81,6 +83,9 @@ class ModelChoice:
         fit_grid: size the grid to the brush's footprint (fewer cells than ``cells``, same
             cell size) instead of always using ``cells``.
         used_pigments: move only the pigment channels in use (in the window or the brush).
+        stokes_below_re: a solver step leaves out the fluid's momentum advection (Stokes flow)
+            while the paint's Reynolds number at the tip, ``rho U L / mu`` (U the tip's speed, L
+            its footprint's width), is below this; 0 always advects.
     """
 
     thin_below_m: float = 2e-4
@@ -88,6 +93,7 @@ class ModelChoice:
     dry_brush: bool = True
     fit_grid: bool = False
     used_pigments: bool = True
+    stokes_below_re: float = 0.0
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.thin_below_m <= self.thick_above_m:
@@ -166,7 +172,7 @@ class PaintScene:
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
         default_factory=lambda: SolverSettings(
-            pressure_tolerance=1e-5, viscosity_tolerance=1e-6, max_iterations=400
+            pressure_tolerance=1e-5, viscosity_tolerance=1e-4, max_iterations=400
         )
     )
     description: str = ""
@@ -238,7 +244,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
-            viscosity_tolerance=solver.number("viscosity_tolerance", 1e-6, minimum=1e-12),
+            viscosity_tolerance=solver.number("viscosity_tolerance", 1e-4, minimum=1e-12),
             max_iterations=solver.integer("max_iterations", 400, minimum=1),
             **method_keys(solver),
         ),
@@ -269,6 +275,7 @@ def parse_choice(table: Table) -> ModelChoice:
         dry_brush=_flag(table, "dry_brush", True),
         fit_grid=_flag(table, "fit_grid", False),
         used_pigments=_flag(table, "used_pigments", True),
+        stokes_below_re=table.number("stokes_below_re", 0.0, minimum=0.0, maximum=1.0),
     )
 
 

@@ -210,6 +210,7 @@ class ModelSelector:
         st.steps[kind] += 1
         st.grids[plan.label] += 1
         st.solver_steps[kind] += step.solver_steps
+        st.stokes_steps[kind] += step.stokes_steps
         # A Counter of float milliseconds: typeshed types Counter values as int only.
         st.step_ms[kind] += step.step_ms  # type: ignore[assignment]
         if not plan.dry and plan.fluid != "none":

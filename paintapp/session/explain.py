@@ -25,6 +25,7 @@ def choice_summary(session: PaintingSession) -> dict[str, Any]:
         "solver_steps": st.solver_steps,
         "steps_by_model": dict(ch.steps),
         "solver_steps_by_model": dict(ch.solver_steps),
+        "stokes_steps_by_model": dict(ch.stokes_steps),
         "ms_by_model": {k: round(v, 1) for k, v in ch.step_ms.items()},
         "grids": dict(ch.grids),
         "channels": {str(k): v for k, v in sorted(ch.channels.items())},
@@ -44,6 +45,9 @@ def _counts(session: PaintingSession) -> list[str]:
         solver = ch.solver_steps.get(kind, 0)
         ms = ch.step_ms.get(kind, 0.0)
         lines.append(f"  {kind:<15} {n:>5} steps, {solver:>5} solver steps, {ms / 1e3:7.2f} s")
+        if ch.stokes_steps.get(kind, 0):
+            lines.append(f"  {'':<15} {ch.stokes_steps[kind]:>5} of them as Stokes flow "
+                         f"(Re < {session.scene.choose.stokes_below_re:g}: no momentum advection)")  # fmt: skip
     grids = ", ".join(f"{label}: {n}" for label, n in ch.grids.most_common())
     lines.append(f"grids used (steps): {grids or 'none'}")
     total = len(session.canvas.pigment_names)

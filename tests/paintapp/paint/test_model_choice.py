@@ -174,6 +174,26 @@ def test_carrying_only_the_pigments_in_use_changes_nothing():
     assert all(np.array_equal(a, b) for a, b in zip(results[0][1], results[1][1], strict=True))
 
 
+def test_creeping_paint_steps_as_stokes_flow_and_fast_thin_paint_advects():
+    """Below ``stokes_below_re`` a step leaves the momentum advection out; the count says so.
+    The default paint (20 Pa s) under a 4 cm/s stroke is at Re ~ 0.01; a paint 2000 times
+    thinner at the same speed is at Re ~ 20."""
+    for mu, stokes in ((20.0, True), (0.01, False)):
+        canvas = covered(0.3e-3)
+        s = dataclasses.replace(scene(stokes_below_re=0.1), viscosity_pa_s=mu)
+        session = PaintingSession(canvas, "round_small", s)
+        paint(session, stroke())
+        model = session.model
+        assert bool(model.reynolds < 0.1) is stokes
+        solver = session.choices.solver_steps["grid3d"]
+        assert solver > 5
+        assert session.choices.stokes_steps["grid3d"] == (solver if stokes else 0)
+        assert (model.step_settings().advection == "none") is stokes
+    off = PaintingSession(covered(0.3e-3), "round_small", scene())
+    paint(off, stroke())
+    assert off.choices.stokes_steps["grid3d"] == 0  # the bundled scenes always advect
+
+
 def test_the_choose_table_is_validated():
     with pytest.raises(InputError, match="thick_above_m"):
         parse_paint_scene({"choose": {"thin_below_m": 5e-4, "thick_above_m": 1e-4}}, "x")
@@ -181,6 +201,11 @@ def test_the_choose_table_is_validated():
         parse_paint_scene({"choose": {"fit_grid": "yes"}}, "x")
     with pytest.raises(InputError, match="not a known key"):
         parse_paint_scene({"choose": {"thin": 1e-4}}, "x")
+    with pytest.raises(InputError, match="stokes_below_re"):  # Stokes flow is for Re < 1
+        parse_paint_scene({"choose": {"stokes_below_re": 5.0}}, "x")
+    assert (
+        parse_paint_scene({"choose": {"stokes_below_re": 0.1}}, "x").choose.stokes_below_re == 0.1
+    )
     assert FULL_MODEL == ModelChoice(dry_brush=False, fit_grid=False, used_pigments=False)
     assert load_paint_scene("auto").fluid_model == "auto"
 
