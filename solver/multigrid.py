@@ -281,25 +281,26 @@ def _prolong_add(shapes, starts, level, x):
 
 @njit(cache=True, nogil=True)
 def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x):
-    """z = M^{-1} r, one symmetric V-cycle from a zero guess (``b``, ``x``: packed scratch)."""
+    """z = M^{-1} r, one symmetric V-cycle from a zero guess (``b``, ``x``: packed scratch;
+    ``PRE_SMOOTH`` and ``COARSEST_SWEEPS`` are at least 1)."""
     levels = shapes.shape[0]
     size0 = r.size
     for n in range(size0):
         b[n] = r[n]
-    for n in range(x.size):
-        x[n] = 0.0
-    for lev in range(levels - 1):
+    for lev in range(levels):
         o, shape = starts[lev], shapes[lev]
-        for _ in range(PRE_SMOOTH):
+        # The first half-sweep (colour 0) starts from x = 0 and so reads no neighbour: it is
+        # x = b / diag. Written over the whole level, it also fills colour 1, which the next
+        # half-sweep overwrites without reading. (The same values as sweeping from zeros.)
+        for n in range(o, o + shape[0] * shape[1] * shape[2]):
+            x[n] = b[n] * inv[n]
+        _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
+        for _ in range((PRE_SMOOTH if lev < levels - 1 else COARSEST_SWEEPS) - 1):
             _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
             _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
-        # the last half-sweep was colour 1: only colour 0 has a residual left
-        _residual_restrict(diag, offx, offy, offz, active, shapes, starts, lev, b, x,
-                           0 if PRE_SMOOTH > 0 else -1)  # fmt: skip
-    o, shape = starts[levels - 1], shapes[levels - 1]
-    for _ in range(COARSEST_SWEEPS):
-        _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
-        _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
+        if lev < levels - 1:
+            # the last half-sweep was colour 1: only colour 0 has a residual left
+            _residual_restrict(diag, offx, offy, offz, active, shapes, starts, lev, b, x, 0)
     for _ in range(COARSEST_SWEEPS):
         _sweep(inv, offx, offy, offz, o, shape, b, x, 1)
         _sweep(inv, offx, offy, offz, o, shape, b, x, 0)
