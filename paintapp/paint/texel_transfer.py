@@ -256,33 +256,39 @@ def _bilinear(field, x, y):
 
 
 @njit(cache=True, nogil=True)
-def _swept(field, pad_x, pad_y, dx, dy, samples, out):
-    """``out`` (ny, nx) = the mean of ``field`` moved back along the path (dx, dy): ``field`` read
-    at ``(k + 1/2) / samples`` of the way ahead, bilinearly. ``field`` is (ny, nx) padded with
-    ``pad_y`` rows and ``pad_x`` columns of zeros on every side (at least ``|d| + 1``); returns
-    the sum of ``out``."""
-    ny, nx = out.shape
-    out[:] = 0.0
+def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
+    """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
+    the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
+    fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
+    (at least ``|d| + 1``); returns the sum of ``gain_s``. One pass per sample for both fields,
+    unsigned indices, the division by ``samples`` in the last pass."""
+    ny, nx = gain_s.shape
+    total = 0.0
     for k in range(samples):
         s = (k + 0.5) / samples
         ox, oy = s * dx, s * dy
         i0, j0 = int(np.floor(ox)), int(np.floor(oy))
         fx, fy = ox - i0, oy - j0
         w00, w10, w01, w11 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        first, last = k == 0, k == samples - 1
         for y in range(ny):
-            ya = y + pad_y + j0
-            dst = out[y]
-            row_a, row_b = field[ya], field[ya + 1]
+            ya = np.uint64(y + pad_y + j0)
+            ga, gb, fa, fb = gain[ya], gain[ya + np.uint64(1)], frac[ya], frac[ya + np.uint64(1)]
+            g_out, f_out = gain_s[y], frac_s[y]
             for x in range(nx):
-                xa = x + pad_x + i0
-                dst[x] += (
-                    w00 * row_a[xa] + w10 * row_a[xa + 1] + w01 * row_b[xa] + w11 * row_b[xa + 1]
-                )
-    total = 0.0
-    for y in range(ny):
-        for x in range(nx):
-            out[y, x] /= samples
-            total += out[y, x]
+                xa = np.uint64(x + pad_x + i0)
+                xb = xa + np.uint64(1)
+                g = w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
+                f = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+                if not first:
+                    g += g_out[x]
+                    f += f_out[x]
+                if last:
+                    g /= samples
+                    f /= samples
+                    total += g
+                g_out[x] = g
+                f_out[x] = f
     return total
 
 
@@ -314,12 +320,17 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     gain_s = np.empty((ny, nx))
     frac_s = np.empty((ny, nx))
     mobile = np.empty((ny, nx))
+    share = np.empty((ny, nx))
+    for y in range(ny):
+        for x in range(nx):
+            share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
     done = False
     for p in range(n_p):
         gained, lost = 0.0, 0.0
         for y in range(ny):
+            row = paint[p, y0 + y]
             for x in range(nx):
-                m = paint[p, y0 + y, x0 + x] * _mobile_share(wetness[y0 + y, x0 + x])
+                m = row[x0 + x] * share[y, x]
                 mobile[y, x] = m
                 c = new_mobile[p, y, x] - m
                 gain[pad_y + y, pad_x + x] = max(c, 0.0)
@@ -328,19 +339,32 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                 lost += max(-c, 0.0)
         if gained == 0.0 and lost == 0.0:
             continue
-        swept = _swept(gain, pad_x, pad_y, dx, dy, samples, gain_s)
+        swept = _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
-        _swept(frac, pad_x, pad_y, dx, dy, samples, frac_s)
-        scale, taken = 1.0, 0.0
-        for _ in range(32):
-            taken = 0.0
-            for y in range(ny):
-                for x in range(nx):
-                    taken += min(scale * frac_s[y, x], 1.0) * mobile[y, x]
-            if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
-                break
-            scale *= lost / taken
+        # The first pass of the water-filling (scale 1; the swept fractions are means of values
+        # in 0..1, so nothing clips) also finds the largest fraction: when the scaled fractions
+        # stay within 1, the second pass would only confirm the scale.
+        taken, top = 0.0, 0.0
+        for y in range(ny):
+            for x in range(nx):
+                taken += min(frac_s[y, x], 1.0) * mobile[y, x]
+                if mobile[y, x] > 0.0:
+                    top = max(top, frac_s[y, x])
+        scale = 1.0
+        if taken > 0.0 and abs(taken - lost) > 1e-12 * lost:
+            scale = lost / taken
+            if scale * top > 1.0:  # some texels clip: iterate
+                for _ in range(31):
+                    taken = 0.0
+                    for y in range(ny):
+                        for x in range(nx):
+                            taken += min(scale * frac_s[y, x], 1.0) * mobile[y, x]
+                    if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
+                        break
+                    scale *= lost / taken
+            else:
+                taken = lost
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
             continue  # the swept fractions meet too little paint: keep the unswept change
         for y in range(ny):
