@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class SolverSettings:
-    """Numerical knobs: advection scheme (``linear`` | ``maccormack``), relative residual
+    """Numerical knobs: advection scheme (``linear`` | ``maccormack`` | ``none``: Stokes flow,
+    the velocity's self-advection left out), relative residual
     tolerances and iteration cap of the PCG solves, and the probe force model
     (``stress`` integral; ``control_volume``, a momentum balance over a box around the probe that
     is far less sensitive to the staircase boundary; or the paper's ``drag`` / ``viscous_drag``
