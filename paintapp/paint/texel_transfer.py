@@ -201,7 +201,7 @@ def close_pinholes(new_mobile, touched, total, floor):
 @njit(cache=True, nogil=True)
 def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
     """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
-    of the total (0 where none is left), as float32; non-finite values become 0, paint is
+    of the total (0 where none is left as float32), as float32; non-finite values become 0, paint is
     clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
     box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the non-finite count."""
     n_p, ny, nx = new_mobile.shape
@@ -216,6 +216,7 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
             dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
             total = 0.0
             wet = 0.0
+            stored = False
             for p in range(n_p):
                 v = paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
                 total += v
@@ -224,8 +225,11 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
                 if not np.isfinite(f):
                     bad += 1
                     f = np.float32(0.0)
-                paint[p, y0 + y, x0 + x] = min(max(f, np.float32(0.0)), np.float32(max_paint))
-            share = np.float32(wet / total) if total > 0.0 else np.float32(0.0)
+                f = min(max(f, np.float32(0.0)), np.float32(max_paint))
+                paint[p, y0 + y, x0 + x] = f
+                stored = stored or f > 0.0
+            # no wetness where no paint is left once stored (a total below float32's range)
+            share = np.float32(wet / total) if total > 0.0 and stored else np.float32(0.0)
             if not np.isfinite(share):
                 bad += 1
                 share = np.float32(0.0)
