@@ -147,8 +147,9 @@ def _move(canvas: Canvas, box: Box, ux: np.ndarray, vy: np.ndarray, dt_s: float,
     new_mobile[used] = moved
     new_paint = dry + new_mobile
     total = new_paint.sum(axis=0)
+    stored = new_paint.astype(np.float32).sum(axis=0) > 0.0  # no wetness without stored paint
     with np.errstate(invalid="ignore", divide="ignore"):
-        new_wet = np.where(total > 0.0, new_mobile.sum(axis=0) / total, 0.0)
+        new_wet = np.where((total > 0.0) & stored, new_mobile.sum(axis=0) / total, 0.0)
     rows = np.flatnonzero(changed.any(axis=1))
     cols = np.flatnonzero(changed.any(axis=0))
     r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1

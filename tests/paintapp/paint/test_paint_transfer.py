@@ -144,7 +144,7 @@ def test_a_stroke_prints_no_cell_lattice_no_halo_and_no_holes():
     assert not (binary_fill_holes(painted) & ~painted).any()  # unbroken: no holes inside
 
 
-@pytest.mark.parametrize("scene", ["default", "stokes", "thin_glaze"])
+@pytest.mark.parametrize("scene", ["default", "stokes", "thin_glaze", "texel_flow"])
 def test_no_texel_is_left_wet_without_paint(scene):
     """A texel whose paint the write-back takes to below float32's range holds none once stored:
     it keeps no wetness either (measured before: 71 such texels along this stroke, 6 of them
@@ -154,6 +154,8 @@ def test_no_texel_is_left_wet_without_paint(scene):
         base = dataclasses.replace(
             base, choose=dataclasses.replace(base.choose, stokes_below_re=0.1)
         )
+    if scene == "texel_flow":  # the grid's flow moves the texels' paint (paintapp.paint.wet_flow)
+        base = dataclasses.replace(base, texel_flow=True)
     canvas = Canvas((160, 96), (0.04, 0.024), (BLUE,))
     session = PaintingSession(canvas, "flat_wide", base)
     session.load_pigment(BLUE, 3e-8)
