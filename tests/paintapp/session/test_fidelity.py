@@ -58,6 +58,14 @@ def test_draft_and_high_change_the_knobs():
     assert high.solver.pressure_tolerance < scene.solver.pressure_tolerance
     assert high.solver.viscosity_tolerance < scene.solver.viscosity_tolerance
     assert (draft.solver.advection, high.solver.advection) == ("linear", "maccormack")
+    assert draft.solver.viscosity_tolerance > scene.solver.viscosity_tolerance
+    # draft leaves the advection out of creeping paint; high always advects, even where the
+    # scene would not
+    assert (scene.choose.stokes_below_re, draft.choose.stokes_below_re) == (0.0, 0.1)
+    creeping = dataclasses.replace(
+        scene, choose=dataclasses.replace(scene.choose, stokes_below_re=0.5)
+    )
+    assert apply_fidelity(creeping, "high").choose.stokes_below_re == 0.0
     assert high.max_step_s < scene.max_step_s == draft.max_step_s
     glaze = apply_fidelity(load_paint_scene("thin_glaze"), "high")
     assert glaze.cells == (72, 72, 1)  # a 2D grid stays one cell deep
