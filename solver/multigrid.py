@@ -199,7 +199,7 @@ def _sweep(inv, offx, offy, offz, o, shape, b, x, colour):
 @njit(cache=True, nogil=True)
 def _residual_restrict(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour):
     """Restrict ``b - A x`` of ``level`` into ``b`` of ``level + 1`` (sum over the children that
-    are unknowns), from the cells of ``colour`` only (``(i + j + k) % 2``; -1: all of them).
+    are unknowns), from the cells of ``colour`` (``(i + j + k) % 2``) only.
 
     Right after a Gauss-Seidel half-sweep over the other colour, the residual of every cell of
     that colour is zero (to round-off: each was just solved for its neighbours, none of which
@@ -225,14 +225,13 @@ def _residual_restrict(diag, offx, offy, offz, active, shapes, starts, level, b,
         starts[level + 1] + shapes[level + 1, 0] * shapes[level + 1, 1] * shapes[level + 1, 2],
     ):
         b[c] = 0.0
-    step = U1 if colour < 0 else U2
     for ii in range(shapes[level, 0]):
         i = np.uint64(ii)
         for jj in range(shapes[level, 1]):
             j = np.uint64(jj)
             base = o + (i * ny + j) * nz
             cbase = co + ((i >> hx) * cy + (j >> hy)) * cz
-            k = U0 if colour < 0 else np.uint64((ii + jj + colour) & 1)
+            k = np.uint64((ii + jj + colour) & 1)
             while k < nz:
                 n = base + k
                 if active[n]:
@@ -250,7 +249,7 @@ def _residual_restrict(diag, offx, offy, offz, active, shapes, starts, level, b,
                     if k + U1 < nz:
                         r -= offz[n] * x[n + U1]
                     b[cbase + (k >> hz)] += r
-                k += step
+                k += U2
 
 
 @njit(cache=True, nogil=True)

@@ -176,7 +176,8 @@ class PaintModel(ABC):
         self.travel_m = np.zeros(2)
         #: Where the tip last touched down (m, x and y).
         self.touched_down_m = np.zeros(2)
-        #: The paint's Reynolds number at the tip during the current step.
+        #: The paint's Reynolds number at the tip during the current step (kept at 0 unless
+        #: ``choose.stokes_below_re`` asks for it).
         self.reynolds = 0.0
 
     def solver_settings(self) -> SolverSettings:
@@ -304,7 +305,8 @@ class PaintModel(ABC):
         away = float(np.hypot(*(start.position_m[:2] - self.touched_down_m)))
         sweep = scene.sweep and away >= 2.0 * self.footprint_radius_m(start)
         self.travel_m = move / n if sweep else np.zeros(2)
-        self.reynolds = self.tip_reynolds(start, pose, dt_s)
+        if scene.choose.stokes_below_re > 0.0 and dt_s > 0.0:  # no work when it cannot apply
+            self.reynolds = self.tip_reynolds(start, pose, dt_s)
         for s in range(n):
             f = (s + 1) / n
             centre = (1.0 - f) * start.position_m + f * pose.position_m

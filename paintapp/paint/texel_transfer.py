@@ -201,8 +201,8 @@ def close_pinholes(new_mobile, touched, total, floor):
 @njit(cache=True, nogil=True)
 def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
     """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
-    of the total (0 where none is left as float32), as float32; non-finite values become 0, paint is
-    clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
+    of the total (0 where the stored float32 paint is 0), as float32; non-finite values become
+    0, paint is clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
     box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the non-finite count."""
     n_p, ny, nx = new_mobile.shape
     bad = 0
