@@ -100,7 +100,7 @@ def _advection(sim: Simulation) -> Decision:
         return Decision(
             "advection",
             "none (Stokes flow)",
-            "solver.advection = none: the velocity's self-advection is left out, right where "
+            "solver.advection = none: the velocity's self-advection is left out, valid only where "
             "the Reynolds number is far below 1 (creeping flow)",
         )
     if sim.settings.advection == "maccormack":
