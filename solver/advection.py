@@ -73,6 +73,78 @@ def advect_component(
                     hi[i, j, k] = b
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _half(a: float, b: float) -> float:
+    """``lerp``'s blend at fraction 0.5, in its operation order."""
+    return a + 0.5 * (b - a)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _face_velocity(u, v, w, axis, i, j, k):
+    """Velocity (cell units per unit time) at face sample ``(i, j, k)`` of component ``axis``
+    of a 3D grid whose sample lies inside (module docstring of :func:`advect_face_3d`), as
+    :func:`~solver.interp.velocity_in_cells` gives it there: the face's own component is its
+    sample, each other one a blend of the four samples around it at fraction 0.5."""
+    if axis == 0:
+        ay = _half(_half(v[i - 1, j, k], v[i, j, k]), _half(v[i - 1, j + 1, k], v[i, j + 1, k]))
+        az = _half(_half(w[i - 1, j, k], w[i, j, k]), _half(w[i - 1, j, k + 1], w[i, j, k + 1]))
+        return u[i, j, k], ay, az
+    if axis == 1:
+        ax = _half(_half(u[i, j - 1, k], u[i + 1, j - 1, k]), _half(u[i, j, k], u[i + 1, j, k]))
+        az = _half(_half(w[i, j - 1, k], w[i, j, k]), _half(w[i, j - 1, k + 1], w[i, j, k + 1]))
+        return ax, v[i, j, k], az
+    ax = _half(_half(u[i, j, k - 1], u[i + 1, j, k - 1]), _half(u[i, j, k], u[i + 1, j, k]))
+    ay = _half(_half(v[i, j, k - 1], v[i, j + 1, k - 1]), _half(v[i, j, k], v[i, j + 1, k]))
+    return ax, ay, w[i, j, k]
+
+
+@njit(cache=True, nogil=True)
+def advect_face_3d(
+    q: np.ndarray,
+    axis: int,
+    u: np.ndarray,
+    v: np.ndarray,
+    w: np.ndarray,
+    h: float,
+    dt: float,
+    out: np.ndarray,
+) -> None:
+    """:func:`advect_component` for face samples of a 3D grid (``axis`` 0-2), linear scheme,
+    with the same values and less work: the trace's first stage starts on a face sample, where
+    the velocity's interpolation weights are 0, 1/2 or 1. Away from the walls (where no
+    fraction is clamped) :func:`_face_velocity` reads 9 samples instead of interpolating 24
+    (the blends at weight 0 and 1 give exactly the sample, so nothing changes); at the walls
+    the general interpolation runs."""
+    nx, ny, nz = q.shape
+    cx, cy, cz = w.shape[0], u.shape[1], v.shape[2]  # the grid's cells
+    # the samples whose first-stage interpolation clamps no fraction, per axis: [lo, hi)
+    lo_i = 1 if axis == 0 else 0
+    hi_i = cx if axis == 0 else cx - 1
+    lo_j = 1 if axis == 1 else 0
+    hi_j = cy if axis == 1 else cy - 1
+    lo_k = 1 if axis == 2 else 0
+    hi_k = cz if axis == 2 else cz - 1
+    ox = 0.0 if axis == 0 else 0.5
+    oy = 0.0 if axis == 1 else 0.5
+    oz = 0.0 if axis == 2 else 0.5
+    c = dt / h
+    for i in range(nx):
+        inner_i = lo_i <= i < hi_i
+        for j in range(ny):
+            inner = inner_i and lo_j <= j < hi_j
+            for k in range(nz):
+                gx, gy, gz = i + ox, j + oy, k + oz
+                if inner and lo_k <= k < hi_k:
+                    ax, ay, az = _face_velocity(u, v, w, axis, i, j, k)
+                else:
+                    ax, ay, az = velocity_in_cells(u, v, w, 3, gx, gy, gz)
+                mx = gx - 0.5 * c * ax
+                my = gy - 0.5 * c * ay
+                mz = gz - 0.5 * c * az
+                bx, by, bz = velocity_in_cells(u, v, w, 3, mx, my, mz)
+                out[i, j, k] = lerp(q, gx - c * bx - ox, gy - c * by - oy, gz - c * bz - oz)
+
+
 @njit(cache=True, nogil=True)
 def maccormack_correct(
     q: np.ndarray, fwd: np.ndarray, back: np.ndarray, lo: np.ndarray, hi: np.ndarray
@@ -97,7 +169,10 @@ def advect(
     u, v, w = velocity
     out = np.empty_like(q)
     if scheme == LINEAR:
-        advect_component(q, axis, u, v, w, dim, h, dt, out, out, out, False)
+        if dim == 3 and axis >= 0:
+            advect_face_3d(q, axis, u, v, w, h, dt, out)
+        else:
+            advect_component(q, axis, u, v, w, dim, h, dt, out, out, out, False)
         return out
     lo = np.empty_like(q)
     hi = np.empty_like(q)
