@@ -21,9 +21,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+
+from brushes.tip_kernels import (
+    ROUND_CONE,
+    ROUNDED_BOX,
+    round_cone_params,
+    rounded_box_params,
+    section_sdf,
+    tip_sdf,
+)
+
+#: A tip's compiled form (:mod:`brushes.tip_kernels`): ``(kind, params, lateral scale)``.
+Kernel = tuple[int, np.ndarray, float]
 
 
 @runtime_checkable
@@ -56,6 +69,20 @@ def _points(points: np.ndarray, dim: int) -> np.ndarray:
     return p
 
 
+def _compiled_sdf(kernel: Kernel, points: np.ndarray, section_z: float | None = None) -> np.ndarray:
+    """A tip's signed distance at ``points`` ((..., 3), or (..., 2) on the plane ``section_z``)
+    through its compiled form."""
+    p = _points(points, 3 if section_z is None else 2)
+    flat = np.ascontiguousarray(p.reshape(-1, p.shape[-1]))
+    out = np.empty(flat.shape[0])
+    kind, params, scale = kernel
+    if section_z is None:
+        tip_sdf(kind, params, scale, flat, out)
+    else:
+        section_sdf(kind, params, scale, float(section_z), flat, out)
+    return out.reshape(p.shape[:-1])
+
+
 @dataclass(frozen=True)
 class RoundCone:
     """Convex hull of a tip sphere (radius ``tip_radius_m``) touching the apex at the origin and a
@@ -85,7 +112,17 @@ class RoundCone:
     def bounding_radius_m(self) -> float:
         return self.length_m
 
+    @cached_property
+    def kernel(self) -> Kernel:
+        """The compiled form (:mod:`brushes.tip_kernels`)."""
+        return ROUND_CONE, round_cone_params(self.tip_radius_m, self.belly_radius_m,
+                                             self.length_m), 1.0  # fmt: skip
+
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        return _compiled_sdf(self.kernel, points)
+
+    def sdf_numpy(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`sdf` in numpy (the compiled form's reference)."""
         p = _points(points, 3)
         r1, r2 = self.tip_radius_m, self.belly_radius_m
         c1, c2 = self._centres
@@ -139,7 +176,17 @@ class RoundedBox:
         centre, half = self._core
         return float(np.linalg.norm(centre + half)) + self.corner_radius_m
 
+    @cached_property
+    def kernel(self) -> Kernel:
+        """The compiled form (:mod:`brushes.tip_kernels`)."""
+        centre, half = self._core
+        return ROUNDED_BOX, rounded_box_params(centre[2], half, self.corner_radius_m), 1.0
+
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        return _compiled_sdf(self.kernel, points)
+
+    def sdf_numpy(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`sdf` in numpy (the compiled form's reference)."""
         centre, half = self._core
         q = np.abs(_points(points, 3) - centre) - half
         outside = np.linalg.norm(np.maximum(q, 0.0), axis=-1)
@@ -225,7 +272,19 @@ class Splayed:
     def bounding_radius_m(self) -> float:
         return self.base.bounding_radius_m * max(1.0, self.lateral_scale)
 
+    @property
+    def kernel(self) -> Kernel | None:
+        """The compiled form (:mod:`brushes.tip_kernels`), or None when the base has none or is
+        stretched itself."""
+        base = getattr(self.base, "kernel", None)
+        if base is None or base[2] != 1.0:
+            return None
+        return base[0], base[1], self.lateral_scale
+
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        kernel = self.kernel
+        if kernel is not None:
+            return _compiled_sdf(kernel, points)
         p = _points(points, 3) / self._scale
         return self.base.sdf(p) * min(1.0, self.lateral_scale)
 
@@ -249,6 +308,9 @@ class Section:
         return self.base.bounding_radius_m
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        kernel = getattr(self.base, "kernel", None)
+        if kernel is not None:
+            return _compiled_sdf(kernel, points, self.z_m)
         p = _points(points, 2)
         z = np.full((*p.shape[:-1], 1), self.z_m)
         return self.base.sdf(np.concatenate([p, z], axis=-1))

@@ -300,26 +300,45 @@ def _lattice_sdf(
         sdf = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
         return [sdf[sel[0], sel[1], None] for sel, _, _ in targets]
     pts = np.stack(np.meshgrid(*(ax[0::2] for ax in axes), indexing="ij"), axis=-1)
-    node = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
-    out = [node]
-    for a in range(3):
-        b, c = (n for n in range(3) if n != a)
-        lo_b, hi_b = _halves(node, b)
-        out.append(0.25 * sum(_halves(q, c)[0] + _halves(q, c)[1] for q in (lo_b, hi_b)))
-    cell = node
-    for a in range(3):
-        lo_a, hi_a = _halves(cell, a)
-        cell = 0.5 * (lo_a + hi_a)
-    out.append(cell)
-    return out
+    node = np.ascontiguousarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+    nx, ny, nz = node.shape
+    faces = [np.empty((nx, ny - 1, nz - 1)), np.empty((nx - 1, ny, nz - 1)),
+             np.empty((nx - 1, ny - 1, nz))]  # fmt: skip
+    cell = np.empty((nx - 1, ny - 1, nz - 1))
+    node_means(node, faces[0], faces[1], faces[2], cell)
+    return [node, *faces, cell]
 
 
-def _halves(q: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
-    """``q`` without its last and without its first slice along ``axis``."""
-    lo = [slice(None)] * q.ndim
-    hi = [slice(None)] * q.ndim
-    lo[axis], hi[axis] = slice(0, -1), slice(1, None)
-    return q[tuple(lo)], q[tuple(hi)]
+@njit(cache=True, nogil=True)
+def node_means(node, face_x, face_y, face_z, cell):
+    """Each face's mean of its four corner nodes, and each cell's of its eight (``node`` (nx, ny,
+    nz); a face of axis ``a`` lies across the other two axes). The sums run in a fixed order: a
+    face's two pairs along its first axis, a cell's halvings along x, then y, then z."""
+    nx, ny, nz = node.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if j + 1 < ny and k + 1 < nz:
+                    face_x[i, j, k] = 0.25 * (
+                        (0.0 + (node[i, j, k] + node[i, j, k + 1]))
+                        + (node[i, j + 1, k] + node[i, j + 1, k + 1])
+                    )
+                if i + 1 < nx and k + 1 < nz:
+                    face_y[i, j, k] = 0.25 * (
+                        (0.0 + (node[i, j, k] + node[i, j, k + 1]))
+                        + (node[i + 1, j, k] + node[i + 1, j, k + 1])
+                    )
+                if i + 1 < nx and j + 1 < ny:
+                    face_z[i, j, k] = 0.25 * (
+                        (0.0 + (node[i, j, k] + node[i, j + 1, k]))
+                        + (node[i + 1, j, k] + node[i + 1, j + 1, k])
+                    )
+                if i + 1 < nx and j + 1 < ny and k + 1 < nz:
+                    a00 = 0.5 * (node[i, j, k] + node[i + 1, j, k])
+                    a10 = 0.5 * (node[i, j + 1, k] + node[i + 1, j + 1, k])
+                    a01 = 0.5 * (node[i, j, k + 1] + node[i + 1, j, k + 1])
+                    a11 = 0.5 * (node[i, j + 1, k + 1] + node[i + 1, j + 1, k + 1])
+                    cell[i, j, k] = 0.5 * (0.5 * (a00 + a10) + 0.5 * (a01 + a11))
 
 
 def _sample_sdf(

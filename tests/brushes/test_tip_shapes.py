@@ -186,3 +186,32 @@ def test_box_tip_takes_the_solver_grid_scale_corner_radius():
     assert with_rounded_corners(flat, 5 * MM).corner_radius_m == pytest.approx(1 * MM)
     cone = RoundCone(0.4 * MM, 2 * MM, 10 * MM)
     assert with_rounded_corners(cone, 0.3 * MM) is cone  # smooth already
+
+
+COMPILED = [
+    RoundCone(0.4 * MM, 2.0 * MM, 12.0 * MM),
+    RoundCone(1.5 * MM, 1.5 * MM, 9.0 * MM),  # a capsule
+    RoundedBox(8.0 * MM, 1.5 * MM, 14.0 * MM, 0.3 * MM),
+    RoundedBox(5.0 * MM, 5.0 * MM, 5.0 * MM),  # sharp
+]
+
+
+@pytest.mark.parametrize("tip", COMPILED)
+@pytest.mark.parametrize("splay", [1.0, 0.7, 1.6])
+def test_compiled_distances_are_the_numpy_ones(tip, splay):
+    # the kernels repeat the numpy arithmetic in its order: the same values, bit for bit, for
+    # the tip, its splayed form and its sections (inside, on and far outside the surface)
+    pts = RNG.uniform(-12.0 * MM, 16.0 * MM, (4000, 3))
+    pts[:50, :2] = 0.0  # on the axis
+    shape = tip if splay == 1.0 else Splayed(tip, splay)
+    stretch = np.array([splay, splay, 1.0])
+    reference = (
+        tip.sdf_numpy(pts / stretch) * min(1.0, splay) if splay != 1.0 else tip.sdf_numpy(pts)
+    )
+    np.testing.assert_array_equal(shape.sdf(pts), reference)
+    np.testing.assert_array_equal(shape.sdf(pts.reshape(40, 100, 3)), reference.reshape(40, 100))
+    z = 3.0 * MM
+    cut = Section(shape, z).sdf(pts[:, :2])
+    on_plane = np.column_stack([pts[:, :2], np.full(len(pts), z)])
+    np.testing.assert_array_equal(cut, shape.sdf(on_plane))
+    assert (reference < 0.0).any() and (reference > 0.0).any()
