@@ -146,6 +146,41 @@ def advect_face_3d(
 
 
 @njit(cache=True, nogil=True)
+def advect_face_2d(
+    q: np.ndarray, axis: int, u: np.ndarray, v: np.ndarray, h: float, dt: float, out: np.ndarray
+) -> None:
+    """:func:`advect_face_3d` on a 2D grid (one cell deep, ``axis`` 0 or 1): the face's own
+    component is its sample, the other the blend of the four around it."""
+    nx, ny, _ = q.shape
+    cx, cy = v.shape[0], u.shape[1]  # the grid's cells
+    lo_i = 1 if axis == 0 else 0
+    hi_i = cx if axis == 0 else cx - 1
+    lo_j = 1 if axis == 1 else 0
+    hi_j = cy if axis == 1 else cy - 1
+    ox = 0.0 if axis == 0 else 0.5
+    oy = 0.0 if axis == 1 else 0.5
+    w = u  # never read in 2D
+    c = dt / h
+    for i in range(nx):
+        inner_i = lo_i <= i < hi_i
+        for j in range(ny):
+            gx, gy = i + ox, j + oy
+            if inner_i and lo_j <= j < hi_j:
+                if axis == 0:
+                    ax = u[i, j, 0]
+                    ay = _half(_half(v[i - 1, j, 0], v[i, j, 0]),
+                               _half(v[i - 1, j + 1, 0], v[i, j + 1, 0]))  # fmt: skip
+                else:
+                    ax = _half(_half(u[i, j - 1, 0], u[i + 1, j - 1, 0]),
+                               _half(u[i, j, 0], u[i + 1, j, 0]))  # fmt: skip
+                    ay = v[i, j, 0]
+            else:
+                ax, ay, _ = velocity_in_cells(u, v, w, 2, gx, gy, 0.5)
+            bx, by, _ = velocity_in_cells(u, v, w, 2, gx - 0.5 * c * ax, gy - 0.5 * c * ay, 0.5)
+            out[i, j, 0] = lerp(q, gx - c * bx - ox, gy - c * by - oy, 0.0)
+
+
+@njit(cache=True, nogil=True)
 def maccormack_correct(
     q: np.ndarray, fwd: np.ndarray, back: np.ndarray, lo: np.ndarray, hi: np.ndarray
 ) -> None:
@@ -171,6 +206,8 @@ def advect(
     if scheme == LINEAR:
         if dim == 3 and axis >= 0:
             advect_face_3d(q, axis, u, v, w, h, dt, out)
+        elif dim == 2 and axis >= 0:
+            advect_face_2d(q, axis, u, v, h, dt, out)
         else:
             advect_component(q, axis, u, v, w, dim, h, dt, out, out, out, False)
         return out

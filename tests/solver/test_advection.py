@@ -1,5 +1,5 @@
-"""Semi-Lagrangian advection: the 3D face kernel, which starts the trace from the face's own
-samples, gives exactly the general kernel's values, walls and far departures included."""
+"""Semi-Lagrangian advection: the face kernels, which start the trace from the face's own
+samples, give exactly the general kernel's values, walls and far departures included."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver.advection import advect_component, advect_face_3d
+from solver.advection import advect_component, advect_face_2d, advect_face_3d
 
 
 def _fields(cells, seed, speed):
@@ -36,6 +36,28 @@ def test_face_kernel_gives_the_general_kernel_s_values(nx, ny, nz, axis, seed, s
     advect_face_3d(q, axis, u, v, w, h, dt, fast)
     np.testing.assert_array_equal(fast, general)
     assert not np.array_equal(general, q)  # the field did move
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    nx=st.integers(2, 12),
+    ny=st.integers(2, 12),
+    axis=st.integers(0, 1),
+    seed=st.integers(0, 2**31),
+    speed=st.sampled_from([0.05, 1.0, 40.0]),
+)
+def test_2d_face_kernel_gives_the_general_kernel_s_values(nx, ny, axis, seed, speed):
+    u, v, _ = _fields((nx, ny, 1), seed, speed)
+    u, v = u[:, :, :1].copy(), v[:, :, :1].copy()
+    w = np.zeros((nx, ny, 2))
+    q = (u, v)[axis]
+    h, dt = 0.1, 0.07
+    general = np.empty_like(q)
+    advect_component(q, axis, u, v, w, 2, h, dt, general, general, general, False)
+    fast = np.empty_like(q)
+    advect_face_2d(q, axis, u, v, h, dt, fast)
+    np.testing.assert_array_equal(fast, general)
+    assert not np.array_equal(general, q)
 
 
 def test_a_uniform_flow_carries_a_linear_profile_exactly():
