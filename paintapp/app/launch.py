@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 from pathlib import Path
@@ -130,9 +131,23 @@ def create_window(options: PaintOptions, interactive: bool = True):
     return app, window
 
 
+def freeze_startup_heap() -> int:
+    """Move everything alive now (modules, compiled kernels, the window) out of the cyclic
+    garbage collector's reach, and return how many objects that was.
+
+    The collector's full pass scans every tracked object while holding the interpreter lock: over
+    the app's ~1.8 x 10^5 objects from start-up it took 15-160 ms, a freeze of the window and the
+    simulation whenever a long session ages enough new objects to trigger one. After the freeze
+    a pass scans only what was made since (start-up objects are never garbage)."""
+    gc.collect()
+    gc.freeze()
+    return gc.get_freeze_count()
+
+
 def run_paint(options: PaintOptions) -> int:
     """Run the app until its window closes; returns the exit status."""
     app, window = create_window(options)
+    freeze_startup_heap()
     status = app.exec()
     window.deleteLater()
     return int(status)

@@ -129,3 +129,20 @@ def test_paint_without_display_says_so(monkeypatch, capsys) -> None:
     err = capsys.readouterr().err
     assert "no display" in err and "paintapp demo" in err and "paintapp replay" in err
     assert "Traceback" not in err
+
+
+def test_the_start_up_heap_is_frozen_out_of_the_collector_s_passes():
+    import gc
+
+    from paintapp.app.launch import freeze_startup_heap
+
+    before = [object() for _ in range(10)], {"a": [1, 2]}
+    try:
+        frozen = freeze_startup_heap()
+        assert frozen > 1000
+        tracked = {id(o) for o in gc.get_objects()}
+        assert id(before) not in tracked and id(before[1]) not in tracked
+        after = {"b": [3]}
+        assert id(after) in {id(o) for o in gc.get_objects()}
+    finally:
+        gc.unfreeze()
