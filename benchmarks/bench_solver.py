@@ -1,9 +1,11 @@
 """Time a full solver step, and each sub-step, with a moving probe; or, with ``--peer``, our step
 against PhiFlow's on one scene.
 
-Grids: 2D 64x64 and 128x128, 3D 32^3 and 64^3; a box probe sweeps through the fluid while
-spinning (the paper's setting: unit domain, Re ~ 1000). Prints the median over many steps
-(after a warm-up that compiles the kernels) and the PCG iterations.
+Grids: 2D 64x64 and 128x128, 3D 32^3 and 64^3; a box probe 0.12 m a side sweeps back and forth
+through the fluid between x = 0.3 and 0.7 m at 0.8 m/s while spinning at 3 rad/s (the paper's
+setting: unit domain, Re ~ 100), 0.4 cells a step, and stays inside for every step timed.
+Prints the median over many steps (after a warm-up that compiles the kernels) and the PCG
+iterations.
 
 ``--peer``: PhiFlow 3.4 with its JAX backend (``phiflow_peer.py``) and our solver on the same
 scene, 2D 64x64 and 128x128: a 0.1 m square box moving at 0.5 m/s back and forth between
@@ -54,28 +56,45 @@ PEER_INSTALL = (
 )
 
 
-def make(dim: int, n: int, advection: str) -> Simulation:
+BENCH_X_M = (0.3, 0.7)  # the box's centre moves back and forth between these
+BENCH_SPEED_M_S = 0.8
+BENCH_SPIN_RAD_S = 3.0
+BENCH_KEY_S = 0.05  # keyframe spacing (a slerp between keyframes turns at most 0.15 rad)
+
+
+def bench_path(dim: int, duration_s: float) -> np.ndarray:
+    """Keyframes ``[t, position, angle or quaternion]`` of the benchmark's box: back and forth
+    along x between ``BENCH_X_M`` at ``BENCH_SPEED_M_S`` (the rest of the centre at 0.5 m),
+    spinning about z at ``BENCH_SPIN_RAD_S``, for ``duration_s`` seconds and a keyframe more; the
+    turning points are keyframes, so the linear path is exact."""
+    leg_s = (BENCH_X_M[1] - BENCH_X_M[0]) / BENCH_SPEED_M_S
+    times = np.arange(0.0, duration_s + 2 * BENCH_KEY_S, BENCH_KEY_S)
+    turns = np.arange(leg_s, times[-1], leg_s)
+    rows = []
+    for t in np.unique(np.concatenate([times, turns])):
+        phase = (t / leg_s) % 2.0
+        x = BENCH_X_M[0] + (BENCH_X_M[1] - BENCH_X_M[0]) * (phase if phase <= 1.0 else 2.0 - phase)
+        angle = BENCH_SPIN_RAD_S * t
+        if dim == 2:
+            rows.append([t, x, 0.5, angle])
+        else:
+            rows.append([t, x, 0.5, 0.5, math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)])
+    return np.array(rows)
+
+
+def make(dim: int, n: int, advection: str, duration_s: float = 10.0) -> Simulation:
+    """The benchmark's scene on an ``n``-cell-a-side unit box: a box probe, 0.12 m a side, on
+    :func:`bench_path` for ``duration_s``; nu = 1e-3 m^2/s, pressure to 1e-5."""
     grid = Grid.from_size((1.0,) * dim, (n,) * dim)
-    size = (0.12,) * dim
-    if dim == 2:
-        probe = Probe("box", Box(size), 2, np.array([0.3, 0.5]), 0.0, np.array([0.8, 0.2]), 3.0)
-    else:
-        probe = Probe(
-            "box",
-            Box(size),
-            3,
-            np.array([0.3, 0.5, 0.5]),
-            np.array([1.0, 0.0, 0.0, 0.0]),
-            np.array([0.8, 0.2, 0.1]),
-            np.array([0.0, 0.0, 3.0]),
-        )
+    path = bench_path(dim, duration_s)
+    probe = Probe("box", Box((0.12,) * dim), dim, path[0, 1 : 1 + dim].copy(), path=path)
     settings = SolverSettings(advection=advection, pressure_tolerance=1e-5)
     return Simulation(grid, Fluid(1.0, 1e-3), probes=[probe], settings=settings)
 
 
 def bench(dim: int, n: int, steps: int, advection: str) -> dict[str, float]:
-    sim = make(dim, n, advection)
-    dt = 0.5 / n  # the probe moves ~0.4 cells per step
+    dt = 0.5 / n  # the probe moves 0.4 cells per step
+    sim = make(dim, n, advection, (steps + 3) * dt)
     for _ in range(3):
         sim.step(dt)
     rows = []
