@@ -82,7 +82,7 @@ def _half(a: float, b: float) -> float:
 @njit(cache=True, nogil=True, inline="always")
 def _face_velocity(u, v, w, axis, i, j, k):
     """Velocity (cell units per unit time) at face sample ``(i, j, k)`` of component ``axis``
-    of a 3D grid whose sample lies inside (module docstring of :func:`advect_face_3d`), as
+    of a 3D grid, a sample away from the walls (as :func:`advect_face_3d` picks them), as
     :func:`~solver.interp.velocity_in_cells` gives it there: the face's own component is its
     sample, each other one a blend of the four samples around it at fraction 0.5."""
     if axis == 0:
