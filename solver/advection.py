@@ -80,6 +80,16 @@ def _half(a: float, b: float) -> float:
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _unclamped(axis: int, along: int, cells: int) -> tuple[int, int, float]:
+    """For face samples of component ``axis``, along grid axis ``along`` of ``cells`` cells: the
+    indices ``[lo, hi)`` whose first trace stage clamps no interpolation fraction, and the
+    samples' offset from the cell corner (0 along their own axis, else 1/2)."""
+    if axis == along:
+        return 1, cells, 0.0
+    return 0, cells - 1, 0.5
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _face_velocity(u, v, w, axis, i, j, k):
     """Velocity (cell units per unit time) at face sample ``(i, j, k)`` of component ``axis``
     of a 3D grid, a sample away from the walls (as :func:`advect_face_3d` picks them), as
@@ -117,16 +127,9 @@ def advect_face_3d(
     the general interpolation runs."""
     nx, ny, nz = q.shape
     cx, cy, cz = w.shape[0], u.shape[1], v.shape[2]  # the grid's cells
-    # the samples whose first-stage interpolation clamps no fraction, per axis: [lo, hi)
-    lo_i = 1 if axis == 0 else 0
-    hi_i = cx if axis == 0 else cx - 1
-    lo_j = 1 if axis == 1 else 0
-    hi_j = cy if axis == 1 else cy - 1
-    lo_k = 1 if axis == 2 else 0
-    hi_k = cz if axis == 2 else cz - 1
-    ox = 0.0 if axis == 0 else 0.5
-    oy = 0.0 if axis == 1 else 0.5
-    oz = 0.0 if axis == 2 else 0.5
+    lo_i, hi_i, ox = _unclamped(axis, 0, cx)
+    lo_j, hi_j, oy = _unclamped(axis, 1, cy)
+    lo_k, hi_k, oz = _unclamped(axis, 2, cz)
     c = dt / h
     for i in range(nx):
         inner_i = lo_i <= i < hi_i
@@ -153,12 +156,8 @@ def advect_face_2d(
     component is its sample, the other the blend of the four around it."""
     nx, ny, _ = q.shape
     cx, cy = v.shape[0], u.shape[1]  # the grid's cells
-    lo_i = 1 if axis == 0 else 0
-    hi_i = cx if axis == 0 else cx - 1
-    lo_j = 1 if axis == 1 else 0
-    hi_j = cy if axis == 1 else cy - 1
-    ox = 0.0 if axis == 0 else 0.5
-    oy = 0.0 if axis == 1 else 0.5
+    lo_i, hi_i, ox = _unclamped(axis, 0, cx)
+    lo_j, hi_j, oy = _unclamped(axis, 1, cy)
     w = u  # never read in 2D
     c = dt / h
     for i in range(nx):
