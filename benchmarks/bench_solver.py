@@ -246,11 +246,22 @@ def main_peer(steps: int, rounds: int) -> int:
     return 0
 
 
+def positive_int(text: str) -> int:
+    """An argument that must be a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
         "--steps",
-        type=int,
+        type=positive_int,
         help="timed steps for 2D (default 200; 3D: fewer); with --peer, steps per round (48)",
     )
     parser.add_argument("--only", choices=["2d", "3d"])
@@ -258,7 +269,8 @@ def main() -> int:
     parser.add_argument(
         "--peer", action="store_true", help="our step against PhiFlow 3.4's (JAX) on one scene"
     )
-    parser.add_argument("--rounds", type=int, default=5, help="with --peer: rounds per solver")
+    parser.add_argument("--rounds", type=positive_int, default=5,
+                        help="with --peer: rounds per solver")  # fmt: skip
     args = parser.parse_args()
     if args.peer:
         return main_peer(args.steps or 48, args.rounds)
