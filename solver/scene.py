@@ -30,6 +30,7 @@ from solver.solver_settings import (
     PRECONDITIONERS,
     PRESSURE_SCHEMES,
     VISCOSITY_PRECONDITIONERS,
+    VISCOSITY_TOLERANCE,
 )
 
 SCHEMA_VERSION = 1
@@ -311,7 +312,7 @@ def _settings(t: Table) -> SolverSettings:
             "pressure_tolerance", 1e-6, minimum=0.0, exclusive=True, maximum=1.0
         ),
         viscosity_tolerance=t.number(
-            "viscosity_tolerance", 1e-8, minimum=0.0, exclusive=True, maximum=1.0
+            "viscosity_tolerance", VISCOSITY_TOLERANCE, minimum=0.0, exclusive=True, maximum=1.0
         ),
         max_iterations=t.integer("max_iterations", 1000, minimum=1, maximum=MAX_ITERATIONS),
         force_model=t.string("force_model", "stress", choices=list(MODELS)),
