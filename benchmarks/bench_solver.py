@@ -33,6 +33,7 @@ import time
 import numpy as np
 from tqdm import tqdm
 
+from solver.component_threads import MAX_THREADS
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Box
@@ -82,19 +83,21 @@ def bench_path(dim: int, duration_s: float) -> np.ndarray:
     return np.array(rows)
 
 
-def make(dim: int, n: int, advection: str, duration_s: float = 10.0) -> Simulation:
+def make(
+    dim: int, n: int, advection: str, duration_s: float = 10.0, threads: int = 0
+) -> Simulation:
     """The benchmark's scene on an ``n``-cell-a-side unit box: a box probe, 0.12 m a side, on
     :func:`bench_path` for ``duration_s``; nu = 1e-3 m^2/s, pressure to 1e-5."""
     grid = Grid.from_size((1.0,) * dim, (n,) * dim)
     path = bench_path(dim, duration_s)
     probe = Probe("box", Box((0.12,) * dim), dim, path[0, 1 : 1 + dim].copy(), path=path)
-    settings = SolverSettings(advection=advection, pressure_tolerance=1e-5)
+    settings = SolverSettings(advection=advection, pressure_tolerance=1e-5, threads=threads)
     return Simulation(grid, Fluid(1.0, 1e-3), probes=[probe], settings=settings)
 
 
-def bench(dim: int, n: int, steps: int, advection: str) -> dict[str, float]:
+def bench(dim: int, n: int, steps: int, advection: str, threads: int = 0) -> dict[str, float]:
     dt = 0.5 / n  # the probe moves 0.4 cells per step
-    sim = make(dim, n, advection, (steps + 3) * dt)
+    sim = make(dim, n, advection, (steps + 3) * dt, threads)
     for _ in range(3):
         sim.step(dt)
     rows = []
@@ -104,6 +107,7 @@ def bench(dim: int, n: int, steps: int, advection: str) -> dict[str, float]:
     for key in rows[0].substep_ms:
         out[key] = statistics.median(r.substep_ms[key] for r in rows)
     out["pcg_it"] = statistics.median(r.pressure.iterations for r in rows)
+    out["threads"] = sim.component_threads()
     return out
 
 
@@ -246,6 +250,19 @@ def main_peer(steps: int, rounds: int) -> int:
     return 0
 
 
+def thread_setting(text: str) -> int:
+    """``--threads``: a whole number in [0, MAX_THREADS] (0: auto)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= MAX_THREADS:
+        raise argparse.ArgumentTypeError(
+            f"expected a whole number in [0, {MAX_THREADS}] (0: auto), got {text!r}"
+        )
+    return value
+
+
 def positive_int(text: str) -> int:
     """An argument that must be a whole number of at least 1."""
     try:
@@ -271,19 +288,25 @@ def main() -> int:
     )
     parser.add_argument("--rounds", type=positive_int, default=5,
                         help="with --peer: rounds per solver")  # fmt: skip
+    parser.add_argument("--threads", type=thread_setting, default=0,
+                        help="threads for the velocity components (default 0: auto; 1: one)")  # fmt: skip
     args = parser.parse_args()
     if args.peer:
         return main_peer(args.steps or 48, args.rounds)
     steps_2d = args.steps or 200
     cols = ["step", "advect", "boundaries", "viscosity", "projection", "forces"]
     print(f"median milliseconds per step ({args.advection} advection, moving spinning box)")
-    print(f"{'grid':<12}" + "".join(f"{c:>12}" for c in cols) + f"{'PCG it':>8}")
+    print(f"{'grid':<12}" + "".join(f"{c:>12}" for c in cols) + f"{'PCG it':>8}{'threads':>9}")
     for name, dim, n in CASES:
         if args.only and args.only != f"{dim}d":
             continue
         steps = steps_2d if dim == 2 else max(5, steps_2d // (4 if n <= 32 else 20))
-        r = bench(dim, n, steps, args.advection)
-        print(f"{name:<12}" + "".join(f"{r[c]:>12.3f}" for c in cols) + f"{r['pcg_it']:>8.0f}")
+        r = bench(dim, n, steps, args.advection, args.threads)
+        print(
+            f"{name:<12}"
+            + "".join(f"{r[c]:>12.3f}" for c in cols)
+            + f"{r['pcg_it']:>8.0f}{r['threads']:>9.0f}"
+        )
     return 0
 
 

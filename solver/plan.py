@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.boundary import SIDE_NAMES
+from solver.component_threads import AUTO_MIN_SAMPLES, usable_cores
 from solver.probes import Probe
 from solver.shapes import Box
 from solver.simulation import Simulation
@@ -44,6 +45,7 @@ def explain(sim: Simulation, dt_s: float) -> list[Decision]:
         _advection(sim),
         _body_force(sim),
         _viscosity(sim, dt_s),
+        _threads(sim),
         _pressure(sim),
         _boundaries(sim),
         _probe_boundary(sim),
@@ -150,6 +152,25 @@ def _viscosity(sim: Simulation, dt_s: float) -> Decision:
         side = "<=" if kind == "jacobi" else ">"
         reason += f"; 2 dim nu dt / h^2 = {coupling:.3g} {side} {JACOBI_LIMIT:g} picks {kind}"
     return Decision("viscosity", chosen, reason)
+
+
+def _threads(sim: Simulation) -> Decision:
+    g = sim.grid
+    threads = sim.component_threads()
+    samples = min(int(np.prod(g.face_shape(a))) for a in range(g.dim))
+    chosen = f"the {g.dim} velocity components' advection and viscosity solves on " + (
+        f"{threads} threads at once" if threads > 1 else "one thread, one after the other"
+    )
+    if sim.settings.threads:
+        reason = f"the scene sets threads = {sim.settings.threads}"
+    elif samples < AUTO_MIN_SAMPLES:
+        reason = (
+            f"auto: {samples} samples a component < {AUTO_MIN_SAMPLES}, where handing work to "
+            "another thread costs more than it saves"
+        )
+    else:
+        reason = f"auto: {samples} samples a component, {usable_cores()} usable cores"
+    return Decision("threads", chosen, reason)
 
 
 def _pressure(sim: Simulation) -> Decision:

@@ -19,6 +19,7 @@ from common.errors import InputError
 from common.tables import Table
 from solver.advection import ADVECTION_CHOICES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
+from solver.component_threads import MAX_THREADS
 from solver.drag_models import MODELS
 from solver.grid import Grid
 from solver.probes import PATH_INTERPOLATIONS, Probe
@@ -332,12 +333,13 @@ class MethodKeys(TypedDict):
     pressure_scheme: str
     preconditioner: str
     viscosity_preconditioner: str
+    threads: int
 
 
 def method_keys(t: Table) -> MethodKeys:
-    """The ``boundary_method``, ``corner_radius_cells``, ``pressure_scheme``, ``preconditioner``
-    and ``viscosity_preconditioner`` keys of a ``[solver]`` table (a scene's or a paint
-    scene's), defaults filled in, choices and ranges checked."""
+    """The ``boundary_method``, ``corner_radius_cells``, ``pressure_scheme``, ``preconditioner``,
+    ``viscosity_preconditioner`` and ``threads`` keys of a ``[solver]`` table (a scene's or a
+    paint scene's), defaults filled in, choices and ranges checked."""
     return MethodKeys(
         boundary_method=t.string(
             "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
@@ -360,6 +362,7 @@ def method_keys(t: Table) -> MethodKeys:
             SolverSettings.viscosity_preconditioner,
             choices=list(VISCOSITY_PRECONDITIONERS),
         ),
+        threads=t.integer("threads", SolverSettings.threads, minimum=0, maximum=MAX_THREADS),
     )
 
 

@@ -16,6 +16,7 @@ import numpy as np
 from solver import drag_models
 from solver.advection import ADVECTION_CHOICES, SCHEMES, advect
 from solver.boundary import DomainBoundary
+from solver.component_threads import run_components, thread_count
 from solver.cut_forces import cut_surface_force
 from solver.cut_geometry import CutGeometry
 from solver.cut_projection import (
@@ -135,6 +136,7 @@ class Simulation:
             raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
         if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
             raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
+        self.component_threads()  # refuses a thread count out of range
         if not 0.0 <= self.settings.corner_radius_cells <= MAX_CORNER_RADIUS_CELLS:  # NaN too
             raise ValueError(
                 f"corner_radius_cells must be in [0, {MAX_CORNER_RADIUS_CELLS:g}], "
@@ -180,10 +182,11 @@ class Simulation:
             new = [st.comps[a].copy() if keep else st.comps[a] for a in range(g.dim)]
         else:
             scheme = SCHEMES[cfg.advection]
-            new = [
-                advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme)
-                for a in range(g.dim)
-            ]
+            new = run_components(
+                lambda a: advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme),
+                g.dim,
+                self.component_threads(),
+            )
         for a in range(g.dim):
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]
@@ -273,8 +276,8 @@ class Simulation:
             if not self._viscosity_work:
                 self._viscosity_work = [ViscosityWork.for_shape(g.face_shape(a), g.dim)
                                         for a in range(g.dim)]  # fmt: skip
-            return tuple(
-                diffuse_cut(
+            return tuple(run_components(
+                lambda a: diffuse_cut(
                     st.comps[a],
                     st.face_types[a],
                     a,
@@ -294,11 +297,12 @@ class Simulation:
                     self.drag_per_s,
                     solves[a],
                     self._viscosity_work[a],
-                )
-                for a in range(g.dim)
-            )
-        return tuple(
-            diffuse(
+                ),
+                g.dim,
+                self.component_threads(),
+            ))  # fmt: skip
+        return tuple(run_components(
+            lambda a: diffuse(
                 st.comps[a],
                 st.face_types[a],
                 a,
@@ -315,9 +319,17 @@ class Simulation:
                 cfg.max_iterations,
                 self.drag_per_s,
                 solves[a],
-            )
-            for a in range(g.dim)
-        )
+            ),
+            g.dim,
+            self.component_threads(),
+        ))  # fmt: skip
+
+    def component_threads(self) -> int:
+        """The threads a step runs the velocity components' advection and viscosity solves on
+        (:mod:`solver.component_threads`)."""
+        g = self.grid
+        samples = min(int(np.prod(g.face_shape(a))) for a in range(g.dim))
+        return thread_count(self.settings.threads, samples)
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
         """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its

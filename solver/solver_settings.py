@@ -47,7 +47,11 @@ class SolverSettings:
     comparison scene (``benchmarks/bench_solver.py --peer``'s, 64² to 128², interleaved runs;
     per step, by ``2 dim nu dt / h^2``): the diagonal 0.53 against 0.72 ms at 2.7, 1.64 / 1.75 ms at 6.1, 2.43 /
     2.48 ms at 8.4, 3.72 / 3.40 ms at 10.9. The defaults are the fastest on the benchmarks (``benchmarks/bench_solver.py``,
-    ``paintapp bench``)."""
+    ``paintapp bench``).
+
+    ``threads``: the velocity components' advection and viscosity solves on this many threads
+    at once (the same values); 1 one after the other; 0 (the default) two where the cores and
+    the grid's size make it pay (:mod:`solver.component_threads`)."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -62,6 +66,7 @@ class SolverSettings:
     pressure_scheme: str = "auto"
     preconditioner: str = "multigrid"
     viscosity_preconditioner: str = "auto"
+    threads: int = 0
 
     def viscosity_solver(self, coupling: float) -> str:
         """The viscosity preconditioner for a step whose largest ``2 dim nu dt / h^2`` is

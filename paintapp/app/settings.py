@@ -100,6 +100,8 @@ def make_scene(settings: PaintSettings, user_scene: PaintScene | None) -> PaintS
         scene = load_paint_scene(MODEL_SCENES[settings.fluid_model])
     if settings.viscosity_pa_s is not None:
         scene = replace(scene, viscosity_pa_s=settings.viscosity_pa_s)
+    if scene.solver.threads == 0:  # auto: in the window the other core draws and runs the servo
+        scene = replace(scene, solver=replace(scene.solver, threads=1))
     return scene
 
 

@@ -14,10 +14,11 @@ from paintapp.app.history import UndoHistory
 from paintapp.app.journal import Journal, make_header
 from paintapp.app.options import PaintOptions
 from paintapp.app.recovery import Recovery
-from paintapp.app.settings import PaintSettings, make_preset, scaled_preset
+from paintapp.app.settings import PaintSettings, make_preset, make_scene, scaled_preset
 from paintapp.canvas.model import Canvas
 from paintapp.cli import main
 from paintapp.haptics.device import DeviceState
+from paintapp.paint.paint_scene import parse_paint_scene
 from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import Marker
 
@@ -146,3 +147,10 @@ def test_the_start_up_heap_is_frozen_out_of_the_collector_s_passes():
         assert id(after) in {id(o) for o in gc.get_objects()}
     finally:
         gc.unfreeze()
+
+
+def test_the_window_steps_the_velocity_components_on_one_thread_unless_a_scene_asks():
+    settings = PaintSettings()
+    assert make_scene(settings, None).solver.threads == 1  # auto: the other core draws
+    two = parse_paint_scene({"solver": {"threads": 2}}, "x")
+    assert make_scene(settings, two).solver.threads == 2  # the scene's own choice stands

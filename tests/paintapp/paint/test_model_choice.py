@@ -237,6 +237,13 @@ def test_the_solver_table_takes_the_preconditioners_and_names_a_bad_one():
     assert "multigrid" in str(info.value) and "mic0" in str(info.value)
 
 
+def test_the_solver_table_takes_threads_and_names_a_bad_count():
+    assert parse_paint_scene({}, "x").solver.threads == 0  # auto
+    assert parse_paint_scene({"solver": {"threads": 2}}, "x").solver.threads == 2
+    with pytest.raises(InputError, match=r"solver\.threads"):
+        parse_paint_scene({"solver": {"threads": 100}}, "x")
+
+
 def test_the_solver_table_takes_the_boundary_method_and_names_a_bad_one():
     assert parse_paint_scene({}, "x").solver.boundary_method == "cutcell"
     scene = parse_paint_scene({"solver": {"boundary_method": "staircase"}}, "x")

@@ -1,0 +1,87 @@
+"""The velocity components' independent work (advection, the viscosity solves) on threads.
+
+Each component's advection and viscosity solve reads the shared fields and writes only arrays of
+its own, and their kernels release the interpreter lock (``nogil``), so the components can run on
+two threads at once with the same values, bit for bit, as one after the other.
+
+``threads`` (``SolverSettings.threads``): 1 runs the components one after the other on the
+calling thread; N >= 2 runs them on the calling thread and N - 1 pool threads; 0 (``auto``) takes
+``min(AUTO_THREADS, the cores this process may run on)`` threads where a component has at
+least ``AUTO_MIN_SAMPLES`` samples, and one thread below that, where handing work over costs
+more than it saves.
+
+The thresholds were measured on a 2-core machine (``benchmarks/bench_solver.py --threads 1`` /
+``--threads 2``, interleaved runs): see the README's solver speed section.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from typing import TypeVar
+
+AUTO_THREADS = 2
+AUTO_MIN_SAMPLES = 32768
+MAX_THREADS = 64
+
+T = TypeVar("T")
+
+_pools: dict[int, ThreadPoolExecutor] = {}
+_pools_lock = threading.Lock()
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its affinity where the OS tells it)."""
+    try:
+        return max(len(os.sched_getaffinity(0)), 1)
+    except (AttributeError, OSError):
+        return max(os.cpu_count() or 1, 1)
+
+
+def thread_count(setting: int, samples_per_component: int) -> int:
+    """The threads a step uses for ``setting`` (0: auto) with components this large."""
+    if setting < 0 or setting > MAX_THREADS:
+        raise ValueError(f"threads must be in [0, {MAX_THREADS}] (0: auto), got {setting}")
+    if setting > 0:
+        return setting
+    if samples_per_component < AUTO_MIN_SAMPLES:
+        return 1
+    return min(AUTO_THREADS, usable_cores())
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    with _pools_lock:
+        pool = _pools.get(workers)
+        if pool is None:
+            pool = ThreadPoolExecutor(workers, thread_name_prefix="solver-component")
+            _pools[workers] = pool
+        return pool
+
+
+def run_components(work: Callable[[int], T], count: int, threads: int) -> list[T]:
+    """``[work(0), ..., work(count - 1)]`` on ``threads`` threads: this thread does the
+    components ``a`` with ``a % threads == 0`` (on two threads and three components, the first
+    and the last) while ``threads - 1`` pool threads do the others; this thread keeps its
+    caches and no thread waits idle for a hand-over. With one thread, all in order here. An
+    exception of any component is raised here, after all have finished."""
+    if threads <= 1 or count <= 1:
+        return [work(a) for a in range(count)]
+    pool = _pool(threads - 1)
+    futures = {a: pool.submit(work, a) for a in range(count) if a % threads}
+    results: dict[int, T] = {}
+    error: BaseException | None = None
+    for a in range(0, count, threads):
+        try:
+            results[a] = work(a)
+        except BaseException as exc:  # the others still finish before it is raised
+            error = error or exc
+    for a, future in futures.items():
+        try:
+            results[a] = future.result()
+        except BaseException as exc:
+            error = error or exc
+    if error is not None:
+        raise error
+    return [results[a] for a in range(count)]

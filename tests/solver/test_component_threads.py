@@ -1,0 +1,113 @@
+"""The velocity components on threads: the same values, bit for bit, as one after the other."""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+
+import numpy as np
+import pytest
+
+from solver.component_threads import (
+    AUTO_MIN_SAMPLES,
+    AUTO_THREADS,
+    MAX_THREADS,
+    run_components,
+    thread_count,
+    usable_cores,
+)
+from solver.grid import Grid
+from solver.plan import explain
+from solver.probes import Probe
+from solver.shapes import Box
+from solver.simulation import Fluid, Simulation, SolverSettings
+
+
+def _stirred(dim: int, threads: int, **settings) -> Simulation:
+    """A spinning box crossing a small closed box of fluid."""
+    n = 12
+    grid = Grid.from_size((1.0,) * dim, (n,) * dim)
+    centre = np.full(dim, 0.4)
+    velocity = np.zeros(dim)
+    velocity[0] = 0.6
+    spin = 2.0 if dim == 2 else np.array([0.0, 0.0, 2.0])
+    turn = 0.0 if dim == 2 else np.array([1.0, 0.0, 0.0, 0.0])
+    probe = Probe("box", Box((0.25,) * dim), dim, centre, turn, velocity, spin)
+    cfg = SolverSettings(threads=threads, **settings)
+    return Simulation(grid, Fluid(1.0, 0.01), probes=[probe], settings=cfg)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize(
+    "settings",
+    [
+        {},
+        {"advection": "maccormack"},
+        {"viscosity_preconditioner": "multigrid"},
+        {"boundary_method": "staircase", "viscosity_preconditioner": "mic0"},
+    ],
+)
+def test_components_on_threads_give_the_same_bits(dim, settings):
+    one, two = _stirred(dim, 1, **settings), _stirred(dim, 2, **settings)
+    assert (one.component_threads(), two.component_threads()) == (1, 2)
+    for _ in range(6):
+        a, b = one.step(0.02), two.step(0.02)
+        assert [r.iterations for r in a.viscosity] == [r.iterations for r in b.viscosity]
+    for x, y in zip(one.state.comps[:dim], two.state.comps[:dim], strict=True):
+        assert np.array_equal(x, y)
+    assert np.array_equal(one.state.pressure, two.state.pressure)
+    assert np.array_equal(one.forces["box"].force, two.forces["box"].force)
+    assert np.abs(one.state.comps[0]).max() > 0.1  # the box stirred the fluid
+
+
+def test_run_components_keeps_the_order_and_uses_other_threads():
+    seen: dict[int, str] = {}
+
+    def work(a: int) -> int:
+        seen[a] = threading.current_thread().name
+        return 10 * a
+
+    assert run_components(work, 3, 2) == [0, 10, 20]
+    here = threading.current_thread().name
+    assert seen[0] == seen[2] == here  # this thread does the first and the last
+    assert seen[1] != here
+    assert run_components(work, 3, 1) == [0, 10, 20]
+
+
+def test_a_failing_component_raises_after_the_others_finish():
+    done = []
+
+    def work(a: int) -> int:
+        if a == 1:
+            raise ValueError("component 1 failed")
+        done.append(a)
+        return a
+
+    with pytest.raises(ValueError, match="component 1 failed"):
+        run_components(work, 3, 2)
+    assert sorted(done) == [0, 2]
+
+
+def test_auto_takes_two_threads_only_for_large_components():
+    assert thread_count(0, AUTO_MIN_SAMPLES - 1) == 1
+    assert thread_count(0, AUTO_MIN_SAMPLES) == min(AUTO_THREADS, usable_cores())
+    assert thread_count(3, 10) == 3
+    for bad in (-1, MAX_THREADS + 1):
+        with pytest.raises(ValueError, match="threads must be in"):
+            thread_count(bad, 10)
+
+
+def test_a_simulation_refuses_a_thread_count_out_of_range():
+    grid = Grid.from_size((1.0, 1.0), (8, 8))
+    with pytest.raises(ValueError, match="threads must be in"):
+        Simulation(grid, Fluid(1.0, 0.01), settings=SolverSettings(threads=-1))
+
+
+def test_the_plan_says_how_many_threads_and_why():
+    small = _stirred(3, 0)
+    d = {x.topic: x for x in explain(small, 0.02)}["threads"]
+    assert "one thread" in d.chosen and "auto" in d.reason
+    set_two = _stirred(3, 0)
+    set_two.settings = dataclasses.replace(set_two.settings, threads=2)
+    d = {x.topic: x for x in explain(set_two, 0.02)}["threads"]
+    assert "2 threads" in d.chosen and "threads = 2" in d.reason
