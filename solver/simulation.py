@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from solver import drag_models
-from solver.advection import ADVECTION_CHOICES, SCHEMES, advect
+from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import DomainBoundary
 from solver.component_threads import run_components, thread_count
 from solver.cut_forces import cut_surface_force
@@ -182,11 +182,7 @@ class Simulation:
             new = [st.comps[a].copy() if keep else st.comps[a] for a in range(g.dim)]
         else:
             scheme = SCHEMES[cfg.advection]
-            new = run_components(
-                lambda a: advect(st.comps[a], a, vel, g.dim, g.cell_size_m, dt_s, scheme),
-                g.dim,
-                self.component_threads(),
-            )
+            new = advect_velocity(vel, g.dim, g.cell_size_m, dt_s, scheme, self.component_threads())
         for a in range(g.dim):
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]

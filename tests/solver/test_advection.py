@@ -7,7 +7,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver.advection import advect_component, advect_face_2d, advect_face_3d
+from solver.advection import (
+    LINEAR,
+    advect,
+    advect_component,
+    advect_face_2d,
+    advect_face_3d,
+    advect_velocity,
+)
 
 
 def _fields(cells, seed, speed):
@@ -33,7 +40,7 @@ def test_face_kernel_gives_the_general_kernel_s_values(nx, ny, nz, axis, seed, s
     general = np.empty_like(q)
     advect_component(q, axis, u, v, w, 3, h, dt, general, general, general, False)
     fast = np.empty_like(q)
-    advect_face_3d(q, axis, u, v, w, h, dt, fast)
+    advect_face_3d(q, axis, u, v, w, h, dt, fast, 0, q.shape[0])
     np.testing.assert_array_equal(fast, general)
     assert not np.array_equal(general, q)  # the field did move
 
@@ -55,7 +62,7 @@ def test_2d_face_kernel_gives_the_general_kernel_s_values(nx, ny, axis, seed, sp
     general = np.empty_like(q)
     advect_component(q, axis, u, v, w, 2, h, dt, general, general, general, False)
     fast = np.empty_like(q)
-    advect_face_2d(q, axis, u, v, h, dt, fast)
+    advect_face_2d(q, axis, u, v, h, dt, fast, 0, q.shape[0])
     np.testing.assert_array_equal(fast, general)
     assert not np.array_equal(general, q)
 
@@ -71,7 +78,25 @@ def test_a_uniform_flow_carries_a_linear_profile_exactly():
     x = (np.arange(nx) + 0.5) * h
     q = np.broadcast_to((2.0 * x)[:, None, None], (nx, ny + 1, nz)).copy()
     out = np.empty_like(q)
-    advect_face_3d(q, 1, u, v, w, h, dt, out)
+    advect_face_3d(q, 1, u, v, w, h, dt, out, 0, q.shape[0])
     expect = 2.0 * (x - speed * dt)
     np.testing.assert_allclose(out[1:, :, :], np.broadcast_to(expect[1:, None, None],
                                                               out[1:].shape), atol=1e-12)  # fmt: skip
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    dim=st.sampled_from([2, 3]),
+    n=st.integers(2, 9),
+    threads=st.integers(2, 4),
+    seed=st.integers(0, 2**31),
+)
+def test_slabs_on_threads_give_the_whole_components_values(dim, n, threads, seed):
+    u, v, w = _fields((n, n + 1, n if dim == 3 else 1), seed, 1.0)
+    if dim == 2:
+        u, v, w = u[:, :, :1].copy(), v[:, :, :1].copy(), np.zeros((n, n + 1, 2))
+    velocity = (u, v, w)
+    whole = [advect(velocity[a], a, velocity, dim, 0.1, 0.07) for a in range(dim)]
+    slabs = advect_velocity(velocity, dim, 0.1, 0.07, LINEAR, threads)
+    for a in range(dim):
+        np.testing.assert_array_equal(slabs[a], whole[a])
