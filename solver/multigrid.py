@@ -432,6 +432,13 @@ class Multigrid:
         """Solve ``system`` x = ``b`` in place in ``x`` (warm start), as :func:`solver.pcg.solve`;
         active entries with a zero row are left as they are and out of the residual."""
         self.load(system)
+        return self.solve_loaded(b, x, tol, max_iter)
+
+    def solve_loaded(self, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int) -> SolveReport:
+        """:meth:`solve` for the system last given to :meth:`load` (which may have run on another
+        thread while this one did other work)."""
+        if tuple(b.shape) != self.shape or tuple(x.shape) != self.shape:
+            raise ValueError(f"b and x must have the shape {self.shape}, got {b.shape}, {x.shape}")
         flat_x = np.ascontiguousarray(self._inner(x))
         it, res = mgpcg_flat(
             self.diag,

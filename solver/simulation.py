@@ -136,6 +136,7 @@ class Simulation:
             raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
         if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
             raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
+        self._component_samples = min(int(np.prod(grid.face_shape(a))) for a in range(grid.dim))
         self.component_threads()  # refuses a thread count out of range
         if not 0.0 <= self.settings.corner_radius_cells <= MAX_CORNER_RADIUS_CELLS:  # NaN too
             raise ValueError(
@@ -143,7 +144,12 @@ class Simulation:
                 f"got {self.settings.corner_radius_cells}"
             )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
-        self._pressure_solve = _linear_solver(self.settings.preconditioner, grid.cells, grid.dim)
+        self._pressure_mg = (
+            Multigrid(grid.cells, grid.dim) if self.settings.preconditioner == "multigrid" else None
+        )
+        self._pressure_solve: LinearSolve = (
+            self._pressure_mg.solve if self._pressure_mg is not None else solve
+        )
         self._viscosity_solves: dict[str, list[LinearSolve]] = {}
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
         self._was_active = np.zeros(grid.cells, dtype=np.bool_)
@@ -207,15 +213,26 @@ class Simulation:
             self._old_pressure_gradient(active, dt_s)
         t2b = time.perf_counter()
         ms["boundaries"] += 1e3 * (t2b - t2)
-        visc = self._diffuse(dt_s)
+        # with a second thread, the pressure's multigrid hierarchy (from the matrix, which the
+        # viscosity does not change) is built beside the viscosity solves, in the slack that
+        # three components leave on two threads
+        preload = (
+            self._pressure_mg
+            if system is not None and self.cut is not None and self.component_threads() > 1
+            else None
+        )
+        visc = self._diffuse(dt_s, preload, system)
         t3 = time.perf_counter()
         ms["viscosity"] = 1e3 * (t3 - t2b)
         phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
         if system is not None and self.cut is not None:
+            pressure_solve = self._pressure_solve
+            if preload is not None:
+                pressure_solve = _loaded_solve(preload)
             report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
                                  self.cut.owner_face, self._rigid,
                                  g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
-                                 cfg.max_iterations, self._pressure_solve)  # fmt: skip
+                                 cfg.max_iterations, pressure_solve)  # fmt: skip
         else:
             report = project(
                 st.comps,
@@ -258,74 +275,56 @@ class Simulation:
             else:
                 subtract_gradient(st.comps[a], st.face_types[a], a, phi_old, h)
 
-    def _diffuse(self, dt_s: float) -> tuple[SolveReport, ...]:
+    def _diffuse(
+        self, dt_s: float, preload: Multigrid | None = None, system: StencilSystem | None = None
+    ) -> tuple[SolveReport, ...]:
+        """The viscosity solves, one per component; ``preload``, when given, loads ``system``
+        beside them (a task of its own, on the thread that has a component less)."""
         mu_max = float(self.viscosity_pa_s.max())  # the field is >= 0 (set_viscosity)
-        if mu_max <= 0.0 and self.drag_per_s is None:
-            return ()  # inviscid: no viscosity solve at all
         g, st, cfg = self.grid, self.state, self.settings
+        if mu_max <= 0.0 and self.drag_per_s is None:
+            if preload is not None and system is not None:
+                preload.load(system)
+            return ()  # inviscid: no viscosity solve at all
         rigid = self._rigid
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
         coupling = 2 * g.dim * mu_max * dt_s / (rho * h * h)
         solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
-        if self.cut is not None:
-            cut = self.cut
-            if not self._viscosity_work:
-                self._viscosity_work = [ViscosityWork.for_shape(g.face_shape(a), g.dim)
-                                        for a in range(g.dim)]  # fmt: skip
+        if self.cut is None:
             return tuple(run_components(
-                lambda a: diffuse_cut(
-                    st.comps[a],
-                    st.face_types[a],
-                    a,
-                    g.dim,
-                    self.viscosity_pa_s,
-                    dt_s,
-                    rho,
-                    self._kinds,
-                    self._side_vel,
-                    self._static_label,
-                    rigid,
-                    h,
-                    cut.phi_face[a],
-                    cut.owner_sample[a],
-                    cfg.viscosity_tolerance,
-                    cfg.max_iterations,
-                    self.drag_per_s,
-                    solves[a],
-                    self._viscosity_work[a],
+                lambda a: diffuse(
+                    st.comps[a], st.face_types[a], a, g.dim, self.viscosity_pa_s, dt_s, rho,
+                    self._kinds, self._side_vel, st.label, rigid, h, cfg.viscosity_tolerance,
+                    cfg.max_iterations, self.drag_per_s, solves[a],
                 ),
                 g.dim,
                 self.component_threads(),
             ))  # fmt: skip
-        return tuple(run_components(
-            lambda a: diffuse(
-                st.comps[a],
-                st.face_types[a],
-                a,
-                g.dim,
-                self.viscosity_pa_s,
-                dt_s,
-                rho,
-                self._kinds,
-                self._side_vel,
-                st.label,
-                rigid,
-                h,
-                cfg.viscosity_tolerance,
-                cfg.max_iterations,
-                self.drag_per_s,
-                solves[a],
-            ),
-            g.dim,
-            self.component_threads(),
-        ))  # fmt: skip
+        cut = self.cut
+        if not self._viscosity_work:
+            self._viscosity_work = [ViscosityWork.for_shape(g.face_shape(a), g.dim)
+                                    for a in range(g.dim)]  # fmt: skip
+
+        def task(a: int) -> SolveReport | None:
+            if a == g.dim:  # the pressure's hierarchy
+                if preload is not None and system is not None:
+                    preload.load(system)
+                return None
+            return diffuse_cut(
+                st.comps[a], st.face_types[a], a, g.dim, self.viscosity_pa_s, dt_s, rho,
+                self._kinds, self._side_vel, self._static_label, rigid, h, cut.phi_face[a],
+                cut.owner_sample[a], cfg.viscosity_tolerance, cfg.max_iterations,
+                self.drag_per_s, solves[a], self._viscosity_work[a],
+            )  # fmt: skip
+
+        tasks = g.dim + (1 if preload is not None else 0)
+        reports = run_components(task, tasks, self.component_threads())
+        return tuple(r for r in reports[: g.dim] if r is not None)
 
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on
         (:mod:`solver.component_threads`)."""
-        g = self.grid
-        samples = min(int(np.prod(g.face_shape(a))) for a in range(g.dim))
-        return thread_count(self.settings.threads, samples)
+        return thread_count(self.settings.threads, self._component_samples)
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
         """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its
@@ -625,6 +624,17 @@ def _shifted(q: np.ndarray, off: list[int]) -> np.ndarray:
         dst.append(slice(max(-o, 0), n - max(o, 0)))
     out[tuple(dst)] = q[tuple(src)]
     return out
+
+
+def _loaded_solve(mg: Multigrid) -> LinearSolve:
+    """``mg``'s solve for the system it has already loaded (the ``system`` argument unused)."""
+
+    def solve_loaded(
+        system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
+    ) -> SolveReport:
+        return mg.solve_loaded(b, x, tol, max_iter)
+
+    return solve_loaded
 
 
 def _linear_solver(
