@@ -7,11 +7,15 @@ two threads at once with the same values, bit for bit, as one after the other.
 ``threads`` (``SolverSettings.threads``): 1 runs the components one after the other on the
 calling thread; N >= 2 runs them on the calling thread and N - 1 pool threads; 0 (``auto``) takes
 ``min(AUTO_THREADS, the cores this process may run on)`` threads where a component has at
-least ``AUTO_MIN_SAMPLES`` samples, and one thread below that, where handing work over costs
-more than it saves.
+least ``AUTO_MIN_SAMPLES[dim]`` samples, and one thread below that, where handing work to a
+sleeping thread costs more than it saves.
 
-The thresholds were measured on a 2-core machine (``benchmarks/bench_solver.py --threads 1`` /
-``--threads 2``, interleaved runs): see the README's solver speed section.
+The thresholds were measured on a 2-core machine by stepping two copies of the solver
+benchmark's scene in one process, one on a thread and one on two, alternating (ms per step, one
+thread -> two): in 3D 16³ 2.18 -> 2.15 (4352 samples a component), 20³ 3.79 -> 3.36 (8400),
+24³ 4.30 -> 3.56, 32³ 10.5 -> 8.8, 64³ 97 -> 74; in 2D, with two components and less work per
+sample, 64² 1.15 -> 1.39, 128² 3.75 -> 3.69 (16512), 160² 5.91 -> 5.80 (25760), 192² 7.81 ->
+6.66 (37056), 256² 16.7 -> 13.4.
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
 
 AUTO_THREADS = 2
-AUTO_MIN_SAMPLES = 32768
+AUTO_MIN_SAMPLES = {2: 32768, 3: 8192}  # by the grid's dimension
 MAX_THREADS = 64
 
 T = TypeVar("T")
@@ -40,13 +44,14 @@ def usable_cores() -> int:
         return max(os.cpu_count() or 1, 1)
 
 
-def thread_count(setting: int, samples_per_component: int) -> int:
-    """The threads a step uses for ``setting`` (0: auto) with components this large."""
+def thread_count(setting: int, samples_per_component: int, dim: int) -> int:
+    """The threads a step uses for ``setting`` (0: auto) with components this large, on a
+    ``dim``-D grid."""
     if setting < 0 or setting > MAX_THREADS:
         raise ValueError(f"threads must be in [0, {MAX_THREADS}] (0: auto), got {setting}")
     if setting > 0:
         return setting
-    if samples_per_component < AUTO_MIN_SAMPLES:
+    if samples_per_component < AUTO_MIN_SAMPLES[dim]:
         return 1
     return min(AUTO_THREADS, usable_cores())
 

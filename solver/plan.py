@@ -163,10 +163,10 @@ def _threads(sim: Simulation) -> Decision:
     )
     if sim.settings.threads:
         reason = f"the scene sets threads = {sim.settings.threads}"
-    elif samples < AUTO_MIN_SAMPLES:
+    elif samples < AUTO_MIN_SAMPLES[g.dim]:
         reason = (
-            f"auto: {samples} samples a component < {AUTO_MIN_SAMPLES}, where handing work to "
-            "another thread costs more than it saves"
+            f"auto: {samples} samples a component < {AUTO_MIN_SAMPLES[g.dim]} ({g.dim}D), where "
+            "handing work to another thread costs more than it saves"
         )
     else:
         reason = f"auto: {samples} samples a component, {usable_cores()} usable cores"

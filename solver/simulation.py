@@ -324,7 +324,7 @@ class Simulation:
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on
         (:mod:`solver.component_threads`)."""
-        return thread_count(self.settings.threads, self._component_samples)
+        return thread_count(self.settings.threads, self._component_samples, self.grid.dim)
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
         """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its

@@ -89,13 +89,15 @@ def test_a_failing_component_raises_after_the_others_finish():
     assert sorted(done) == [0, 2]
 
 
-def test_auto_takes_two_threads_only_for_large_components():
-    assert thread_count(0, AUTO_MIN_SAMPLES - 1) == 1
-    assert thread_count(0, AUTO_MIN_SAMPLES) == min(AUTO_THREADS, usable_cores())
-    assert thread_count(3, 10) == 3
+@pytest.mark.parametrize("dim", [2, 3])
+def test_auto_takes_two_threads_only_for_large_components(dim):
+    least = AUTO_MIN_SAMPLES[dim]
+    assert thread_count(0, least - 1, dim) == 1
+    assert thread_count(0, least, dim) == min(AUTO_THREADS, usable_cores())
+    assert thread_count(3, 10, dim) == 3
     for bad in (-1, MAX_THREADS + 1):
         with pytest.raises(ValueError, match="threads must be in"):
-            thread_count(bad, 10)
+            thread_count(bad, 10, dim)
 
 
 def test_a_simulation_refuses_a_thread_count_out_of_range():
