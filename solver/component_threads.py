@@ -68,9 +68,10 @@ def _pool(workers: int) -> ThreadPoolExecutor:
 def run_components(work: Callable[[int], T], count: int, threads: int) -> list[T]:
     """``[work(0), ..., work(count - 1)]`` on ``threads`` threads: this thread does the
     components ``a`` with ``a % threads == 0`` (on two threads and three components, the first
-    and the last) while ``threads - 1`` pool threads do the others; this thread keeps its
-    caches and no thread waits idle for a hand-over. With one thread, all in order here. An
-    exception of any component is raised here, after all have finished."""
+    and the last) while ``threads - 1`` pool threads do the others, so this thread keeps its
+    caches and works instead of waiting. With one thread, all in order here. An exception (an
+    interrupt too) stops this thread's share and is raised here once the pool's components have
+    finished: none is left writing behind the caller's back."""
     if threads <= 1 or count <= 1:
         return [work(a) for a in range(count)]
     pool = _pool(threads - 1)
@@ -80,8 +81,9 @@ def run_components(work: Callable[[int], T], count: int, threads: int) -> list[T
     for a in range(0, count, threads):
         try:
             results[a] = work(a)
-        except BaseException as exc:  # the others still finish before it is raised
-            error = error or exc
+        except BaseException as exc:
+            error = exc
+            break
     for a, future in futures.items():
         try:
             results[a] = future.result()

@@ -114,3 +114,17 @@ def test_the_plan_says_how_many_threads_and_why():
     set_two.settings = dataclasses.replace(set_two.settings, threads=2)
     d = {x.topic: x for x in explain(set_two, 0.02)}["threads"]
     assert "2 threads" in d.chosen and "threads = 2" in d.reason
+
+
+def test_a_failure_on_this_thread_stops_its_share_and_waits_for_the_pool():
+    done = []
+
+    def work(a: int) -> int:
+        if a == 0:
+            raise KeyboardInterrupt
+        done.append(a)
+        return a
+
+    with pytest.raises(KeyboardInterrupt):
+        run_components(work, 3, 2)
+    assert done == [1]  # the pool's component finished; this thread's next one never began
