@@ -36,12 +36,48 @@ _pools: dict[int, ThreadPoolExecutor] = {}
 _pools_lock = threading.Lock()
 
 
-def usable_cores() -> int:
-    """The cores this process may run on (its affinity where the OS tells it)."""
+CGROUP_QUOTAS = (
+    ("/sys/fs/cgroup/cpu.max", None),  # cgroup v2: "QUOTA PERIOD" or "max PERIOD"
+    ("/sys/fs/cgroup/cpu/cpu.cfs_quota_us", "/sys/fs/cgroup/cpu/cpu.cfs_period_us"),  # v1
+)
+
+
+def quota_cores(quota: str, period: str | None = None) -> int | None:
+    """The whole cores a CPU quota allows (at least 1), from a cgroup v2 ``cpu.max`` line
+    (``quota`` alone) or a v1 quota and period; None when there is no quota or it is unreadable."""
+    fields = quota.split() if period is None else [quota.strip(), period.strip()]
+    if len(fields) != 2 or fields[0] in ("max", "-1"):
+        return None
     try:
-        return max(len(os.sched_getaffinity(0)), 1)
+        limit, length = float(fields[0]), float(fields[1])
+    except ValueError:
+        return None
+    if not (limit > 0 and length > 0):
+        return None
+    return max(int(limit // length), 1)
+
+
+def usable_cores() -> int:
+    """The cores this process may run on: its affinity where the OS tells it, at most what a
+    container's CPU quota allows."""
+    try:
+        cores = max(len(os.sched_getaffinity(0)), 1)
     except (AttributeError, OSError):
-        return max(os.cpu_count() or 1, 1)
+        cores = max(os.cpu_count() or 1, 1)
+    for quota_path, period_path in CGROUP_QUOTAS:
+        try:
+            with open(quota_path) as f:
+                quota = f.read()
+            period = None
+            if period_path is not None:
+                with open(period_path) as f:
+                    period = f.read()
+        except OSError:
+            continue
+        allowed = quota_cores(quota, period)
+        if allowed is not None:
+            return min(cores, allowed)
+    return cores
 
 
 def thread_count(setting: int, samples_per_component: int, dim: int) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 import threading
 
 import numpy as np
@@ -12,6 +13,7 @@ from solver.component_threads import (
     AUTO_MIN_SAMPLES,
     AUTO_THREADS,
     MAX_THREADS,
+    quota_cores,
     run_components,
     thread_count,
     usable_cores,
@@ -128,3 +130,15 @@ def test_a_failure_on_this_thread_stops_its_share_and_waits_for_the_pool():
     with pytest.raises(KeyboardInterrupt):
         run_components(work, 3, 2)
     assert done == [1]  # the pool's component finished; this thread's next one never began
+
+
+def test_a_container_s_cpu_quota_caps_the_cores():
+    assert quota_cores("max 100000\n") is None  # cgroup v2, no quota
+    assert quota_cores("150000 100000\n") == 1  # one and a half cores: one whole
+    assert quota_cores("400000 100000") == 4
+    assert quota_cores("50000 100000") == 1  # at least one
+    assert quota_cores("-1", "100000") is None  # cgroup v1, no quota
+    assert quota_cores("200000", "100000\n") == 2
+    for bad in ("", "garbage", "1 2 3", "0 100000", "nan 100000", "100000 0"):
+        assert quota_cores(bad) is None
+    assert 1 <= usable_cores() <= (os.cpu_count() or 1)
