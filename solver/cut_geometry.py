@@ -185,6 +185,38 @@ def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
                     out[i, j, k] = s / 6.0
 
 
+@njit(cache=True, nogil=True)
+def _fill(a, lo, hi, value):
+    """``a[lo:hi] = value`` over a 3D window, clipped to ``a``'s shape as a slice is."""
+    for i in range(lo[0], min(hi[0], a.shape[0])):
+        for j in range(lo[1], min(hi[1], a.shape[1])):
+            for k in range(lo[2], min(hi[2], a.shape[2])):
+                a[i, j, k] = value
+
+
+@njit(cache=True, nogil=True)
+def reset_window(lo, hi, dim, phi_node, owner_node, fluid_frac, phi_cell, owner_cell, phi_face,
+                 open_frac, owner_face, owner_sample):  # fmt: skip
+    """Clear a probe's window of cells ``lo..hi`` back to no probe at all: its nodes (one more
+    along each of the grid's axes), cells and the faces of each component (one more along the
+    component's axis). In one call: as numpy slice assignments it cost 19 us at 64², 57 at 32³."""
+    node_hi = hi.copy()
+    for a in range(dim):
+        node_hi[a] += 1
+    _fill(phi_node, lo, node_hi, FAR)
+    _fill(owner_node, lo, node_hi, -1)
+    _fill(fluid_frac, lo, hi, 1.0)
+    _fill(phi_cell, lo, hi, FAR)
+    _fill(owner_cell, lo, hi, -1)
+    for a in range(3):
+        face_hi = hi.copy()
+        face_hi[a] += 1
+        _fill(phi_face[a], lo, face_hi, FAR)
+        _fill(open_frac[a], lo, face_hi, 1.0)
+        _fill(owner_face[a], lo, face_hi, -1)
+        _fill(owner_sample[a], lo, face_hi, -1)
+
+
 @dataclass
 class CutGeometry:
     """Per-step cut-cell geometry of all probes on one grid (see the module docstring).
@@ -233,19 +265,10 @@ class CutGeometry:
 
     def _reset(self, dim: int) -> None:
         for lo, hi in self.windows:
-            cell = tuple(slice(lo[a], hi[a]) for a in range(3))
-            node = tuple(slice(lo[a], hi[a] + (1 if a < dim else 0)) for a in range(3))
-            self.phi_node[node] = FAR
-            self.owner_node[node] = -1
-            self.fluid_frac[cell] = 1.0
-            self.phi_cell[cell] = FAR
-            self.owner_cell[cell] = -1
-            for a in range(3):
-                face = tuple(slice(lo[b], hi[b] + (1 if b == a else 0)) for b in range(3))
-                self.phi_face[a][face] = FAR
-                self.open_frac[a][face] = 1.0
-                self.owner_face[a][face] = -1
-                self.owner_sample[a][face] = -1
+            reset_window(lo, hi, dim, self.phi_node, self.owner_node, self.fluid_frac,
+                         self.phi_cell, self.owner_cell, tuple(self.phi_face),
+                         tuple(self.open_frac), tuple(self.owner_face),
+                         tuple(self.owner_sample))  # fmt: skip
         self.windows = []
 
     def update(self, grid: Grid, probes: list[Probe], corner_radius_m: float = 0.0) -> None:
