@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+from numba import njit
 
 
 def _sum_of_squares(points: np.ndarray) -> np.ndarray:
@@ -22,6 +23,45 @@ def _sum_of_squares(points: np.ndarray) -> np.ndarray:
     for a in range(1, points.shape[-1]):
         total = total + points[..., a] * points[..., a]
     return total
+
+
+@njit(cache=True, nogil=True)
+def _ball_sdf(points, radius, out):
+    """:meth:`Ball.sdf` point by point (``points`` (n, d)), in the numpy version's order."""
+    n, d = points.shape
+    for m in range(n):
+        total = points[m, 0] * points[m, 0]
+        for a in range(1, d):
+            total = total + points[m, a] * points[m, a]
+        out[m] = np.sqrt(total) - radius
+
+
+@njit(cache=True, nogil=True)
+def _box_sdf(points, half, out):
+    """:meth:`Box.sdf` point by point (``points`` (n, d)), in the numpy version's order: the
+    same maxima and minima (numpy's ``maximum``/``minimum`` keep the first of equal values, as
+    these comparisons do), the same sums."""
+    n, d = points.shape
+    for m in range(n):
+        q = abs(points[m, 0]) - half[0]
+        out_q = q if q >= 0.0 else 0.0
+        total = out_q * out_q
+        inside = q
+        for a in range(1, d):
+            q = abs(points[m, a]) - half[a]
+            out_q = q if q >= 0.0 else 0.0
+            total = total + out_q * out_q
+            inside = inside if inside >= q else q
+        out[m] = np.sqrt(total) + (inside if inside <= 0.0 else 0.0)
+
+
+def _compiled(kernel, points: np.ndarray, param) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """``kernel`` over ``points`` (..., d) flattened, shaped back."""
+    p = np.asarray(points, dtype=float)
+    flat = np.ascontiguousarray(p.reshape(-1, p.shape[-1]))
+    out = np.empty(flat.shape[0])
+    kernel(flat, param, out)
+    return out.reshape(p.shape[:-1])
 
 
 @runtime_checkable
@@ -45,6 +85,10 @@ class Ball:
         return self.radius_m
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        return _compiled(_ball_sdf, points, float(self.radius_m))
+
+    def sdf_numpy(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`sdf` as numpy expressions (the reference of the compiled form)."""
         return np.sqrt(_sum_of_squares(points)) - self.radius_m
 
     def cross_section_m(self, dim: int) -> float:
@@ -63,6 +107,11 @@ class Box:
         return 0.5 * float(np.linalg.norm(self.size_m))
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
+        half = 0.5 * np.asarray(self.size_m, dtype=float)
+        return _compiled(_box_sdf, points, half)
+
+    def sdf_numpy(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`sdf` as numpy expressions (the reference of the compiled form)."""
         half = 0.5 * np.asarray(self.size_m, dtype=float)
         q = np.abs(points) - half
         outside = np.sqrt(_sum_of_squares(np.maximum(q, 0.0)))

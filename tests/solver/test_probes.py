@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from common import quaternion as rotation
 from solver.grid import Grid
 from solver.probes import Probe
-from solver.shapes import Ball, Box
+from solver.shapes import Ball, Box, FilletedBox
 
 
 def test_voxelized_circle_and_sphere_have_the_right_size():
@@ -140,3 +142,35 @@ def test_world_box_without_a_support_function_is_the_bounding_spheres():
     lower, upper = probe.world_box()
     assert np.allclose(lower, [-0.1, 0.0, 0.1])
     assert np.allclose(upper, [0.3, 0.4, 0.5])
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    dim=st.sampled_from([2, 3]),
+    seed=st.integers(0, 2**31),
+    spread=st.sampled_from([1e-3, 0.1, 10.0]),
+)
+def test_compiled_distances_are_the_numpy_ones(dim, seed, spread):
+    rng = np.random.default_rng(seed)
+    size = tuple(float(s) for s in rng.uniform(0.01, 0.5, dim))
+    points = spread * rng.standard_normal((6, 5, dim))
+    points[0, 0] = 0.0  # the centre, and points on the box's faces and edges
+    points[0, 1] = 0.5 * np.array(size)
+    points[0, 2, 0] = -0.5 * size[0]
+    for shape in (
+        Ball(float(rng.uniform(0.01, 0.5))),
+        Box(size),
+        FilletedBox(size, 0.2 * min(size)),
+    ):
+        compiled, reference = shape.sdf(points), _numpy_sdf(shape, points)
+        assert compiled.shape == reference.shape == points.shape[:-1]
+        np.testing.assert_array_equal(compiled, reference)
+    assert Box(size).sdf(points)[0, 0] == pytest.approx(-0.5 * min(size))  # the centre: inside
+
+
+def _numpy_sdf(shape, points):
+    if isinstance(shape, FilletedBox):
+        return Box(tuple(s - 2 * shape.radius_m for s in shape.size_m)).sdf_numpy(points) - (
+            shape.radius_m
+        )
+    return shape.sdf_numpy(points)
