@@ -192,24 +192,33 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
 
     Faces between two cells take an unsigned-indexed loop without side tests; the two planes
     of faces on the domain's sides the general one (an outflow side is a zero-pressure
-    ghost)."""
+    ghost). A 2D grid (one layer) skips the loop over its single layer: an innermost loop of
+    one pass cost 5-7x the work itself (15 -> 2.3-3.3 us at 64², 55-69 -> 8-9 us at 128²)."""
     nx, ny, nz = q.shape
     n_axis = static.shape[axis]
     di = U1 if axis == 0 else U0
     dj = U1 if axis == 1 else U0
     dk = U1 if axis == 2 else U0
-    for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
-        ui = np.uint64(i)
-        for j in range(1 if axis == 1 else 0, ny - 1 if axis == 1 else ny):
-            uj = np.uint64(j)
-            for k in range(1 if axis == 2 else 0, nz - 1 if axis == 2 else nz):
-                uk = np.uint64(k)
-                if (
-                    wf[ui, uj, uk] > 0.0
-                    and active[ui, uj, uk]
-                    and active[ui - di, uj - dj, uk - dk]
-                ):
-                    q[ui, uj, uk] -= (phi[ui, uj, uk] - phi[ui - di, uj - dj, uk - dk]) / h
+    if nz == 1 and axis != 2:  # 2D: no loop over a single layer
+        for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
+            ui = np.uint64(i)
+            for j in range(1 if axis == 1 else 0, ny - 1 if axis == 1 else ny):
+                uj = np.uint64(j)
+                if wf[ui, uj, U0] > 0.0 and active[ui, uj, U0] and active[ui - di, uj - dj, U0]:
+                    q[ui, uj, U0] -= (phi[ui, uj, U0] - phi[ui - di, uj - dj, U0]) / h
+    else:
+        for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
+            ui = np.uint64(i)
+            for j in range(1 if axis == 1 else 0, ny - 1 if axis == 1 else ny):
+                uj = np.uint64(j)
+                for k in range(1 if axis == 2 else 0, nz - 1 if axis == 2 else nz):
+                    uk = np.uint64(k)
+                    if (
+                        wf[ui, uj, uk] > 0.0
+                        and active[ui, uj, uk]
+                        and active[ui - di, uj - dj, uk - dk]
+                    ):
+                        q[ui, uj, uk] -= (phi[ui, uj, uk] - phi[ui - di, uj - dj, uk - dk]) / h
     for side in (0, n_axis):
         for i in range(side, side + 1) if axis == 0 else range(nx):
             for j in range(side, side + 1) if axis == 1 else range(ny):
@@ -228,28 +237,46 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
 
 
 @njit(cache=True, nogil=True)
+def _fresh_pressure(p, was_active, i, j, k, dim):
+    """The mean pressure of the previously active neighbours of cell (i, j, k) (0 when none)."""
+    nx, ny, nz = p.shape
+    shape = (nx, ny, nz)
+    total = 0.0
+    n = 0
+    for b in range(dim):
+        for s in (-1, 1):
+            ii, jj, kk = _neighbour(i, j, k, b, s)
+            idx = ii if b == 0 else (jj if b == 1 else kk)
+            if 0 <= idx < shape[b] and was_active[ii, jj, kk]:
+                total += p[ii, jj, kk]
+                n += 1
+    return total / n if n else 0.0
+
+
+@njit(cache=True, nogil=True)
 def fill_fresh_pressure(p, was_active, active, dim):
     """Cells active now but not before take the mean pressure of their previously active
     neighbours (0 when none); cells no longer active are zeroed."""
     nx, ny, nz = p.shape
-    shape = (nx, ny, nz)
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if not active[i, j, k]:
-                    continue
-                if was_active[i, j, k]:
-                    continue
-                total = 0.0
-                n = 0
-                for b in range(dim):
-                    for s in (-1, 1):
-                        ii, jj, kk = _neighbour(i, j, k, b, s)
-                        idx = ii if b == 0 else (jj if b == 1 else kk)
-                        if 0 <= idx < shape[b] and was_active[ii, jj, kk]:
-                            total += p[ii, jj, kk]
-                            n += 1
-                p[i, j, k] = total / n if n else 0.0
+    if nz == 1:  # 2D: no loop over a single layer (see subtract_cut_gradient)
+        for i in range(nx):
+            for j in range(ny):
+                if active[i, j, 0] and not was_active[i, j, 0]:
+                    p[i, j, 0] = _fresh_pressure(p, was_active, i, j, 0, dim)
+    else:
+        for i in range(nx):
+            for j in range(ny):
+                for k in range(nz):
+                    if active[i, j, k] and not was_active[i, j, k]:
+                        p[i, j, k] = _fresh_pressure(p, was_active, i, j, k, dim)
+    if nz == 1:  # 2D: no loop over a single layer (see subtract_cut_gradient)
+        for i in range(nx):
+            ui = np.uint64(i)
+            for j in range(ny):
+                uj = np.uint64(j)
+                if not active[ui, uj, U0]:
+                    p[ui, uj, U0] = 0.0
+        return
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
