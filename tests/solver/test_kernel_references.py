@@ -1,5 +1,5 @@
-"""The pressure gradient's kernels on cut cells, 2D (one layer, a loop of its own) and 3D, against
-plain numpy and Python references: the same values, bit for bit."""
+"""The pressure gradient's and the face viscosity's kernels, 2D (one layer, a loop of its own) and 3D,
+against plain numpy and Python references: the same values, bit for bit."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from solver.boundary import OUTFLOW, WALL
 from solver.cut_projection import fill_fresh_pressure, subtract_cut_gradient
+from solver.viscosity import face_viscosity
 
 
 def _reference_gradient(q, kinds, wf, axis, active, phi, h):
@@ -84,3 +85,21 @@ def test_fresh_cells_take_their_old_neighbours_mean_pressure(dim, n, seed):
     got = p.copy()
     fill_fresh_pressure(got, was, active, dim)
     np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=30, deadline=None)
+@given(dim=st.sampled_from([2, 3]), n=st.integers(1, 7), axis=st.integers(0, 2),
+       seed=st.integers(0, 2**31))  # fmt: skip
+def test_face_viscosity_is_the_mean_of_the_cells_beside_the_face(dim, n, axis, seed):
+    axis = axis % dim
+    cells = (n, n + 1, n + 2 if dim == 3 else 1)
+    mu = np.random.default_rng(seed).random(cells)
+    edge = [(0, 0)] * 3
+    edge[axis] = (1, 1)
+    padded = np.pad(mu, edge, mode="edge")  # a side face takes its one cell
+    lo = [slice(None)] * 3
+    hi = [slice(None)] * 3
+    lo[axis], hi[axis] = slice(0, -1), slice(1, None)
+    out = np.empty(tuple(c + (1 if a == axis else 0) for a, c in enumerate(cells)))
+    face_viscosity(mu, axis, out)
+    np.testing.assert_array_equal(out, 0.5 * (padded[tuple(lo)] + padded[tuple(hi)]))
