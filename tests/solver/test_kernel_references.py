@@ -1,5 +1,5 @@
-"""The pressure gradient's and the face viscosity's kernels, 2D (one layer, a loop of its own) and 3D,
-against plain numpy and Python references: the same values, bit for bit."""
+"""The pressure gradient's and the face viscosity's kernels, 2D (one layer, a loop of its own)
+and 3D, against plain numpy and Python references: the same values, bit for bit."""
 
 from __future__ import annotations
 
