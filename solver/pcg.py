@@ -93,7 +93,8 @@ def apply_stencil(diag, offx, offy, offz, active, strides, x, out):
     couplings (the z axis in 2D).
 
     The entries at least the largest stride away from both ends take a loop without bounds
-    tests, unsigned-indexed (1.8x faster at 32³); the rest the tested one."""
+    tests, unsigned-indexed (1.8x faster at 32³); the rest the tested one, which visits only
+    them (it had skipped over the middle entry by entry: a pass of its own, 4 us at 64²)."""
     sx, sy, sz = strides
     size = x.size
     lo = max(sx, sy, sz)
@@ -114,9 +115,8 @@ def apply_stencil(diag, offx, offy, offz, active, strides, x, out):
             s += offz[n - usz] * x[n - usz]
             s += offz[n] * x[n + usz]
         out[n] = s if active[n] else 0.0
-    for n in range(size):
-        if lo <= n < hi:
-            continue
+    for m in range(lo + size - hi):  # the entries before lo and from hi on, in order
+        n = m if m < lo else hi + (m - lo)
         if not active[n]:
             out[n] = 0.0
             continue

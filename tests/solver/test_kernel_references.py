@@ -1,5 +1,6 @@
-"""The pressure gradient's and the face viscosity's kernels, 2D (one layer, a loop of its own)
-and 3D, against plain numpy and Python references: the same values, bit for bit."""
+"""Kernels against plain numpy and Python references, 2D (one layer: a loop of its own) and 3D:
+the pressure gradient, the fresh cells' pressure, the face viscosity and the stencil product.
+The same values, bit for bit."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from hypothesis import strategies as st
 
 from solver.boundary import OUTFLOW, WALL
 from solver.cut_projection import fill_fresh_pressure, subtract_cut_gradient
+from solver.pcg import apply_stencil
 from solver.viscosity import face_viscosity
 
 
@@ -103,3 +105,35 @@ def test_face_viscosity_is_the_mean_of_the_cells_beside_the_face(dim, n, axis, s
     out = np.empty(tuple(c + (1 if a == axis else 0) for a, c in enumerate(cells)))
     face_viscosity(mu, axis, out)
     np.testing.assert_array_equal(out, 0.5 * (padded[tuple(lo)] + padded[tuple(hi)]))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    dim=st.sampled_from([2, 3]),
+    nx=st.integers(1, 8),
+    ny=st.integers(1, 8),
+    nz=st.integers(1, 8),
+    seed=st.integers(0, 2**31),
+)
+def test_the_stencil_product_is_the_reference(dim, nx, ny, nz, seed):
+    nz = nz if dim == 3 else 1
+    size = nx * ny * nz
+    strides = (ny * nz, nz, 1 if dim == 3 else 0)
+    rng = np.random.default_rng(seed)
+    diag, offx, offy, offz, x = (rng.standard_normal(size) for _ in range(5))
+    active = rng.random(size) > 0.2
+    want = np.zeros(size)
+    for n in range(size):  # each product in the kernel's order
+        if not active[n]:
+            continue
+        s = diag[n] * x[n]
+        for stride, off in zip(strides, (offx, offy, offz), strict=True):
+            if stride > 0:
+                if n >= stride:
+                    s += off[n - stride] * x[n - stride]
+                if n + stride < size:
+                    s += off[n] * x[n + stride]
+        want[n] = s
+    got = np.full(size, np.nan)
+    apply_stencil(diag, offx, offy, offz, active, strides, x, got)
+    np.testing.assert_array_equal(got, want)
