@@ -46,6 +46,8 @@ from solver.probes import Probe
 from solver.shapes import Shape, with_rounded_corners
 
 FAR = 1e30
+UNIT = np.eye(3, dtype=np.int64)  # UNIT[a]: one step along axis a (a face window's extra)
+UNIT.flags.writeable = False
 MIN_FRACTION = 0.1
 
 
@@ -285,7 +287,7 @@ class CutGeometry:
             _sample_sdf(grid, probe, shape, n, lo, hi, self)
         for lo, hi in self.windows:
             for a in range(d):
-                face_hi = hi + np.eye(3, dtype=np.int64)[a]
+                face_hi = hi + UNIT[a]
                 open_fractions(self.phi_node, self.phi_face[1 - a] if d == 2 else self.phi_node,
                                self.owner_node, d, a, lo, face_hi,
                                self.open_frac[a], self.owner_face[a])  # fmt: skip
@@ -318,18 +320,43 @@ def _lattice_sdf(
     same corners the open fractions come from (exact for a linear SDF)."""
     d = len(axes)
     rot = probe.rotation_matrix()
+    centre = np.asarray(probe.centre_m, dtype=float)
     if d == 2:  # the sub-lattices tile the lattice: one call over all of it, then each's share
-        pts = np.stack(np.meshgrid(*axes, indexing="ij"), -1)
-        sdf = np.asarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+        rel = np.empty((axes[0].size, axes[1].size, 2))
+        offsets_2d(axes[0], axes[1], centre, rel)
+        sdf = np.asarray(shape.sdf(rel @ rot), dtype=float)
         return [sdf[sel[0], sel[1], None] for sel, _, _ in targets]
-    pts = np.stack(np.meshgrid(*(ax[0::2] for ax in axes), indexing="ij"), axis=-1)
-    node = np.ascontiguousarray(shape.sdf((pts - probe.centre_m) @ rot), dtype=float)
+    nodes = [np.ascontiguousarray(ax[0::2]) for ax in axes]
+    rel = np.empty((nodes[0].size, nodes[1].size, nodes[2].size, 3))
+    offsets_3d(nodes[0], nodes[1], nodes[2], centre, rel)
+    node = np.ascontiguousarray(shape.sdf(rel @ rot), dtype=float)
     nx, ny, nz = node.shape
     faces = [np.empty((nx, ny - 1, nz - 1)), np.empty((nx - 1, ny, nz - 1)),
              np.empty((nx - 1, ny - 1, nz))]  # fmt: skip
     cell = np.empty((nx - 1, ny - 1, nz - 1))
     node_means(node, faces[0], faces[1], faces[2], cell)
     return [node, *faces, cell]
+
+
+@njit(cache=True, nogil=True)
+def offsets_2d(ax, ay, centre, out):
+    """``out[i, j] = (ax[i], ay[j]) - centre``: the lattice's points relative to a probe, as
+    numpy's grid of the axes less the centre would give them (one pass, no temporaries)."""
+    for i in range(ax.size):
+        for j in range(ay.size):
+            out[i, j, 0] = ax[i] - centre[0]
+            out[i, j, 1] = ay[j] - centre[1]
+
+
+@njit(cache=True, nogil=True)
+def offsets_3d(ax, ay, az, centre, out):
+    """:func:`offsets_2d` in 3D."""
+    for i in range(ax.size):
+        for j in range(ay.size):
+            for k in range(az.size):
+                out[i, j, k, 0] = ax[i] - centre[0]
+                out[i, j, k, 1] = ay[j] - centre[1]
+                out[i, j, k, 2] = az[k] - centre[2]
 
 
 @njit(cache=True, nogil=True)

@@ -18,7 +18,7 @@ from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import DomainBoundary
 from solver.component_threads import run_components, thread_count
 from solver.cut_forces import cut_surface_force
-from solver.cut_geometry import CutGeometry
+from solver.cut_geometry import UNIT, CutGeometry
 from solver.cut_projection import (
     cut_flux,
     fill_fresh_pressure,
@@ -432,7 +432,7 @@ class Simulation:
             if self.cut is not None:
                 cut = self.cut
                 for lo, hi in cut.windows:
-                    face_hi = hi + np.eye(3, dtype=np.int64)[a]
+                    face_hi = hi + UNIT[a]
                     mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
                                        cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
                                        rigid, g.cell_size_m, relax)  # fmt: skip

@@ -1,6 +1,6 @@
 """Kernels against plain numpy and Python references, 2D (one layer: a loop of its own) and 3D:
-the pressure gradient, the fresh cells' pressure, the face viscosity and the stencil product.
-The same values, bit for bit."""
+the pressure gradient, the fresh cells' pressure, the face viscosity, the stencil product and the
+lattice offsets of the cut geometry. The same values, bit for bit."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.boundary import OUTFLOW, WALL
+from solver.cut_geometry import offsets_2d, offsets_3d
 from solver.cut_projection import fill_fresh_pressure, subtract_cut_gradient
 from solver.pcg import apply_stencil
 from solver.viscosity import face_viscosity
@@ -136,4 +137,16 @@ def test_the_stencil_product_is_the_reference(dim, nx, ny, nz, seed):
         want[n] = s
     got = np.full(size, np.nan)
     apply_stencil(diag, offx, offy, offz, active, strides, x, got)
+    np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=30, deadline=None)
+@given(dim=st.sampled_from([2, 3]), seed=st.integers(0, 2**31))
+def test_lattice_offsets_are_numpy_s_grid_less_the_centre(dim, seed):
+    rng = np.random.default_rng(seed)
+    axes = [rng.uniform(-1, 1) + 0.01 * np.arange(rng.integers(1, 12)) for _ in range(dim)]
+    centre = rng.uniform(-1, 1, dim)
+    want = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1) - centre
+    got = np.empty(want.shape)
+    (offsets_2d if dim == 2 else offsets_3d)(*axes, centre, got)
     np.testing.assert_array_equal(got, want)
