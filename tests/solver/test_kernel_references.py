@@ -56,6 +56,13 @@ def test_subtract_cut_gradient_is_the_reference(dim, n, axis, sides, seed):
     active = rng.random(cells) > 0.2
     phi = rng.standard_normal(cells)
     q = rng.standard_normal(faces)
+    face = [0, 0, 0]
+    face[axis] = 1  # one open face between two active cells at least: the test moves something
+    lo = list(face)
+    lo[axis] = 0
+    wf[tuple(face)] = 0.5
+    active[tuple(face)] = active[tuple(lo)] = True
+    phi[tuple(face)] = phi[tuple(lo)] + 1.0
     static = np.zeros(cells, dtype=np.int32)
     got = q.copy()
     subtract_cut_gradient(got, static, kinds, wf, axis, active, phi, 0.1)
