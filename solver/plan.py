@@ -157,7 +157,7 @@ def _viscosity(sim: Simulation, dt_s: float) -> Decision:
 def _threads(sim: Simulation) -> Decision:
     g = sim.grid
     threads = sim.component_threads()
-    samples = min(int(np.prod(g.face_shape(a))) for a in range(g.dim))
+    samples = sim.component_samples  # the smallest component's
     chosen = f"the {g.dim} velocity components' advection and viscosity solves on " + (
         f"{threads} threads at once" if threads > 1 else "one thread, one after the other"
     )

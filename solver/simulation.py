@@ -136,7 +136,7 @@ class Simulation:
             raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
         if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
             raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
-        self._component_samples = min(int(np.prod(grid.face_shape(a))) for a in range(grid.dim))
+        self.component_samples = min(int(np.prod(grid.face_shape(a))) for a in range(grid.dim))
         self.component_threads()  # refuses a thread count out of range
         if not 0.0 <= self.settings.corner_radius_cells <= MAX_CORNER_RADIUS_CELLS:  # NaN too
             raise ValueError(
@@ -324,7 +324,7 @@ class Simulation:
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on
         (:mod:`solver.component_threads`)."""
-        return thread_count(self.settings.threads, self._component_samples, self.grid.dim)
+        return thread_count(self.settings.threads, self.component_samples, self.grid.dim)
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
         """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its
