@@ -145,7 +145,9 @@ class Simulation:
             )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
         self._pressure_mg = (
-            Multigrid(grid.cells, grid.dim) if self.settings.preconditioner == "multigrid" else None
+            Multigrid(grid.cells, grid.dim, threads=self.component_threads())
+            if self.settings.preconditioner == "multigrid"
+            else None
         )
         self._pressure_solve: LinearSolve = (
             self._pressure_mg.solve if self._pressure_mg is not None else solve

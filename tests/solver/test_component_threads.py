@@ -9,6 +9,7 @@ import threading
 import numpy as np
 import pytest
 
+from solver import multigrid
 from solver.component_threads import (
     AUTO_MIN_SAMPLES,
     AUTO_THREADS,
@@ -61,6 +62,20 @@ def test_components_on_threads_give_the_same_bits(dim, settings):
     assert np.array_equal(one.state.pressure, two.state.pressure)
     assert np.array_equal(one.forces["box"].force, two.forces["box"].force)
     assert np.abs(one.state.comps[0]).max() > 0.1  # the box stirred the fluid
+
+
+@pytest.mark.parametrize("settings", [{}, {"boundary_method": "staircase"}])
+def test_the_pressure_solve_on_threads_gives_the_same_bits(settings, monkeypatch):
+    """With every multigrid level on the parallel kernels (the threshold lowered to a cell)."""
+    monkeypatch.setattr(multigrid, "PARALLEL_MIN_CELLS", 1)
+    one, two = _stirred(3, 1, **settings), _stirred(3, 2, **settings)
+    for _ in range(4):
+        a, b = one.step(0.02), two.step(0.02)
+        assert a.pressure == b.pressure
+    assert np.array_equal(one.state.pressure, two.state.pressure)
+    for x, y in zip(one.state.comps, two.state.comps, strict=True):
+        assert np.array_equal(x, y)
+    assert a.pressure.iterations > 0
 
 
 def test_run_components_keeps_the_order_and_uses_other_threads():

@@ -3,12 +3,15 @@ preconditioner, few iterations on Poisson problems, and the same flow as MIC(0)-
 
 from __future__ import annotations
 
+from unittest import mock
+
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from solver import multigrid
 from solver.boundary import OUTFLOW
 from solver.faces import FLUID, STATIC_SOLID
 from solver.grid import Grid
@@ -167,3 +170,51 @@ def test_multigrid_and_mic0_give_the_same_flow_and_forces(dim, method):
         assert np.abs(mg.state.comps[a] - ic.state.comps[a]).max() <= 1e-6 * scale
     f_mg, f_ic = mg.forces["p"].force, ic.forces["p"].force
     assert np.abs(f_mg - f_ic).max() <= 1e-5 * np.abs(f_ic).max()
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    nx=st.integers(2, 13),
+    ny=st.integers(1, 12),
+    nz=st.integers(2, 11),
+    seed=st.integers(0, 10_000),
+    margin=st.sampled_from([0.0, 0.5]),
+)
+def test_the_parallel_kernels_give_the_serial_bits(nx, ny, nz, seed, margin):
+    """Every level on two threads (the threshold lowered to one cell): the same solution and
+    iterations, bit for bit, as one thread, on random systems with holes and odd sizes."""
+    s = random_system((nx, ny, nz), 3, seed=seed, margin=margin)
+    rng = np.random.default_rng(seed)
+    b = np.where(s.active, rng.standard_normal(s.diag.shape), 0.0)
+    if margin == 0.0:
+        b[s.active] -= b[s.active].mean()
+    x0 = np.where(s.active, rng.standard_normal(s.diag.shape), 0.0)
+    got = []
+    for threads in (1, 2):
+        mg = Multigrid(s.diag.shape, 3, threads=threads)
+        x = x0.copy()
+        with mock.patch.object(multigrid, "PARALLEL_MIN_CELLS", 1):
+            report = mg.solve(s, b, x, 1e-9, 200)
+        got.append((x, report))
+    (x1, r1), (x2, r2) = got
+    assert np.array_equal(x1, x2)
+    assert r1 == r2
+    assert r1.iterations > 0  # the solve did move x
+
+
+def test_a_large_3d_solve_takes_the_parallel_path_and_keeps_the_bits():
+    s, b = _poisson(34, 3, outflow=True)  # 39304 cells: above the threshold
+    assert s.diag.size >= multigrid.PARALLEL_MIN_CELLS
+    one, two = Multigrid(s.diag.shape, 3), Multigrid(s.diag.shape, 3, threads=2)
+    x1, x2 = np.zeros_like(b), np.zeros_like(b)
+    r1, r2 = one.solve(s, b, x1, 1e-8, 50), two.solve(s, b, x2, 1e-8, 50)
+    assert r1.converged and r1 == r2
+    assert np.array_equal(x1, x2)
+    a, idx = to_sparse(s)
+    exact = spla.spsolve(a.tocsc(), b.reshape(-1)[idx])
+    assert np.abs(x2.reshape(-1)[idx] - exact).max() <= 1e-6 * np.abs(exact).max()
+
+
+def test_a_multigrid_refuses_no_threads():
+    with pytest.raises(ValueError, match="threads"):
+        Multigrid((8, 8, 8), 3, threads=0)
