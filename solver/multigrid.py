@@ -521,6 +521,15 @@ class Multigrid:
     def levels(self) -> int:
         return int(self.shapes.shape[0])
 
+    @property
+    def parallel(self) -> bool:
+        """Whether solves run their largest levels on ``threads`` threads: in 3D, with a finest
+        level of at least ``PARALLEL_MIN_CELLS`` cells (2D levels are one plane: their outer
+        loops have nothing to split)."""
+        return (
+            self.threads > 1 and self.dim == 3 and int(self.shapes[0].prod()) >= PARALLEL_MIN_CELLS
+        )
+
     def load(self, system: StencilSystem) -> None:
         """Take ``system`` as the finest level and build the coarse ones from it."""
         if tuple(system.diag.shape) != self.shape or system.dim != self.dim:
@@ -552,8 +561,7 @@ class Multigrid:
         flat_x = np.ascontiguousarray(self._inner(x))
         args = (self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
                 np.ascontiguousarray(self._inner(b)), flat_x, tol, max_iter, self.work)  # fmt: skip
-        # 2D levels are one plane: their outer loops have nothing to split
-        if self.threads > 1 and self.dim == 3 and self.shapes[0].prod() >= PARALLEL_MIN_CELLS:
+        if self.parallel:
             with parallel_section(self.threads):
                 it, res = mgpcg_flat(*args, PARALLEL_MIN_CELLS)
         else:

@@ -17,6 +17,7 @@ import numpy as np
 
 from solver.boundary import SIDE_NAMES
 from solver.component_threads import AUTO_MIN_SAMPLES, usable_cores
+from solver.multigrid import PARALLEL_MIN_CELLS
 from solver.probes import Probe
 from solver.shapes import Box
 from solver.simulation import Simulation
@@ -161,6 +162,8 @@ def _threads(sim: Simulation) -> Decision:
     chosen = f"the {g.dim} velocity components' advection and viscosity solves on " + (
         f"{threads} threads at once" if threads > 1 else "one thread, one after the other"
     )
+    if sim.pressure_on_threads():
+        chosen += f"; the pressure solve's levels of {PARALLEL_MIN_CELLS}+ cells on {threads}"
     if sim.settings.threads:
         reason = f"the scene sets threads = {sim.settings.threads}"
     elif samples < AUTO_MIN_SAMPLES[g.dim]:

@@ -323,6 +323,11 @@ class Simulation:
         reports = run_components(task, tasks, self.component_threads())
         return tuple(r for r in reports[: g.dim] if r is not None)
 
+    def pressure_on_threads(self) -> bool:
+        """Whether the pressure solve runs its large levels on :meth:`component_threads` threads
+        (:attr:`solver.multigrid.Multigrid.parallel`)."""
+        return self._pressure_mg is not None and self._pressure_mg.parallel
+
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on
         (:mod:`solver.component_threads`)."""

@@ -131,6 +131,15 @@ def test_the_plan_says_how_many_threads_and_why():
     set_two.settings = dataclasses.replace(set_two.settings, threads=2)
     d = {x.topic: x for x in explain(set_two, 0.02)}["threads"]
     assert "2 threads" in d.chosen and "threads = 2" in d.reason
+    assert "pressure" not in d.chosen  # 12³: below the parallel levels' size
+    grid = Grid.from_size((1.0,) * 3, (32,) * 3)
+    large = Simulation(grid, Fluid(1.0, 0.01), settings=SolverSettings(threads=2))
+    assert large.pressure_on_threads()
+    d = {x.topic: x for x in explain(large, 0.02)}["threads"]
+    assert "the pressure solve's levels of 32768+ cells on 2" in d.chosen
+    flat = Simulation(Grid.from_size((1.0,) * 2, (256,) * 2), Fluid(1.0, 0.01),
+                      settings=SolverSettings(threads=2))  # fmt: skip
+    assert not flat.pressure_on_threads()  # 2D levels are one plane
 
 
 def test_a_failure_on_this_thread_stops_its_share_and_waits_for_the_pool():
