@@ -37,8 +37,10 @@ COARSEST_CELLS = 4
 PRESSURE_SCALES = (0.5, 0.5)
 DIFFUSION_SCALES = (0.5, 1.0)
 #: The smallest level the parallel kernels take, with ``threads`` > 1, in 3D (cells). A
-#: 64³ solve took 0.6-0.9x the time on two threads, a 32³ one 0.86x; on the painting grid
-#: (32x32x12) the paint step was slower (see the README).
+#: 64³ solve took 0.6-0.9x the time on two free cores, a 32³ one 0.86x; on the painting grid
+#: (32x32x12) the paint step was slower (see the README). With the other core busy, the solve
+#: took twice as long as on one thread: a simulation asks for it only when its scene sets the
+#: threads.
 PARALLEL_MIN_CELLS = 32768
 
 

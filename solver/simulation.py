@@ -145,7 +145,9 @@ class Simulation:
             )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
         self._pressure_mg = (
-            Multigrid(grid.cells, grid.dim, threads=self.component_threads())
+            # only when asked for: its many short parallel loops each wait for both threads, and
+            # with the other core busy the solve took twice as long as on one thread
+            Multigrid(grid.cells, grid.dim, threads=self.settings.threads or 1)
             if self.settings.preconditioner == "multigrid"
             else None
         )

@@ -137,6 +137,8 @@ def test_the_plan_says_how_many_threads_and_why():
     assert large.pressure_on_threads()
     d = {x.topic: x for x in explain(large, 0.02)}["threads"]
     assert "the pressure solve's levels of 32768+ cells on 2" in d.chosen
+    auto = Simulation(grid, Fluid(1.0, 0.01), settings=SolverSettings(threads=0))
+    assert not auto.pressure_on_threads()  # only when the scene asks for threads
     flat = Simulation(Grid.from_size((1.0,) * 2, (256,) * 2), Fluid(1.0, 0.01),
                       settings=SolverSettings(threads=2))  # fmt: skip
     assert not flat.pressure_on_threads()  # 2D levels are one plane
