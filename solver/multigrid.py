@@ -20,6 +20,9 @@ weight without knowing where they came from:
 
 Every array of the hierarchy is preallocated once per grid shape and refilled in place each
 solve: rebuilding it as probes move costs about two passes over the fine grid.
+
+With ``threads`` > 1, a 3D solve runs its levels of at least :data:`PARALLEL_MIN_CELLS` cells on
+numba's threads (:mod:`solver.parallel_kernels`), with the same values, bit for bit.
 """
 
 from __future__ import annotations
@@ -177,7 +180,7 @@ def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l,
 def _sweep_rows(inv, offx, offy, offz, o, shape, b, x, colour):
     """One Gauss-Seidel pass over the cells of one colour (``(i + j + k) % 2``) of the level at
     offset ``o`` with ``shape``. An entry that is no unknown has ``inv = 0`` and no couplings, so
-    it stays 0 without a test. A cell of one colour reads only the other's, so the rows are
+    it stays 0 without a test. A cell of one colour reads only the other's, so the planes are
     independent."""
     nx, ny, nz = np.uint64(shape[0]), np.uint64(shape[1]), np.uint64(shape[2])
     sx, sy = ny * nz, nz
