@@ -1,7 +1,8 @@
 """Frame rate, simulation rate and servo jitter of the painting window while it paints.
 
     python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--servo process|thread]
-                                   [--headless-seconds S] [--json OUT.json] [--screenshot OUT.png]
+                                   [--headless-seconds S] [--rounds N] [--json OUT.json]
+                                   [--screenshot OUT.png]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
 dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events
@@ -14,7 +15,14 @@ rate, tick-interval jitter and start lateness, and what the OS granted the servo
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo
 loop -- as fast as it takes them, from the first paint step on, and prints that paint-step rate
 and the window's share of it.
-``--json`` writes every figure to a file as well.
+
+``--rounds N`` repeats the whole measurement N times (a fresh window and servo process each time,
+each window run followed by its own headless run) and ends with a table of every round and the
+medians. The machines are shared and their speed drifts by tens of percent within minutes: the
+window's share of the headless rate is only meaningful between a window run and the headless run
+right after it, and its median over rounds says more than any one pair.
+``--json`` writes every figure to a file as well (the medians at the top level, each round's
+figures under ``"rounds"``).
 """
 
 from __future__ import annotations
@@ -24,6 +32,7 @@ import json
 import math
 import os
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -159,11 +168,15 @@ def main() -> None:
     parser.add_argument("--servo", choices=("process", "thread"), default="process")
     parser.add_argument("--headless-seconds", type=float, default=None,
                         help="length of the headless run (default: --seconds; 0 skips it)")  # fmt: skip
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="repeat the measurement; prints each round and the medians")  # fmt: skip
     parser.add_argument("--json", type=Path, help="write the figures to this JSON file")
     parser.add_argument("--switch-interval-ms", type=float, default=None,
                         help="the interpreter's switch interval in the app (default: as is)")  # fmt: skip
     parser.add_argument("--screenshot", type=Path, help="save the window here at the end")
     args = parser.parse_args()
+    if args.rounds < 1 or not args.seconds > 0:
+        parser.error("--rounds must be at least 1 and --seconds positive")
     xvfb = private_display()
     try:
         run(args)
@@ -187,15 +200,61 @@ def wait_until_ready(app, win, timeout_s: float = 30.0) -> None:
     print(f"warning: not ready after {timeout_s:.0f} s (servo or first frame); timing anyway")
 
 
+#: The figures the summary table shows, in its order, with their formats.
+SUMMARY = (
+    ("servo achieved rate (Hz)", "{:.1f}"),
+    ("servo lateness p99 (ms)", "{:.3f}"),
+    ("servo lateness max (ms)", "{:.2f}"),
+    ("simulation rate", "{:.1f}"),
+    ("headless simulation rate", "{:.1f}"),
+    ("window share of headless", "{:.0%}"),
+    ("frame rate", "{:.1f}"),
+)
+
+
 def run(args: argparse.Namespace) -> None:
-    tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))  # the journal and recovery files
-    try:
-        measure(args, tmp)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    rounds = []
+    for index in range(args.rounds):
+        if args.rounds > 1:
+            print(f"--- round {index + 1} of {args.rounds}")
+        tmp = Path(tempfile.mkdtemp(prefix="bench-app-"))  # the journal and recovery files
+        try:
+            rounds.append(measure(args, tmp))
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    figures = medians(rounds)
+    if args.rounds > 1:
+        print(summary_table(rounds, figures))
+    if args.json is not None:
+        figures["rounds"] = rounds
+        args.json.write_text(json.dumps(figures, indent=2, default=str) + "\n")
+        print(f"wrote {args.json}")
 
 
-def measure(args: argparse.Namespace, tmp: Path) -> None:
+def medians(rounds: list[dict[str, object]]) -> dict[str, object]:
+    """Each numeric figure's median over the rounds (other figures: the last round's)."""
+    out: dict[str, object] = {}
+    for key in rounds[-1]:
+        values = [r[key] for r in rounds if key in r]
+        numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
+        out[key] = statistics.median(values) if numeric else values[-1]  # type: ignore[type-var]
+    return out
+
+
+def summary_table(rounds: list[dict[str, object]], figures: dict[str, object]) -> str:
+    """A Markdown table: the :data:`SUMMARY` figures of every round and their medians."""
+    head = " | ".join(f"round {i + 1}" for i in range(len(rounds)))
+    lines = [f"| figure | {head} | median |", "|---" * (len(rounds) + 2) + "|"]
+    for key, fmt in SUMMARY:
+        if key not in figures:
+            continue
+        cells = [fmt.format(r[key]) if key in r else "-" for r in rounds]
+        lines.append(f"| {key} | {' | '.join(cells)} | {fmt.format(figures[key])} |")
+    return "\n".join(lines)
+
+
+def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
+    """One round: the window run, then the headless run of its journal; returns the figures."""
     from paintapp.app.haptic_link import parse_device
     from paintapp.app.launch import create_window
     from paintapp.app.options import PaintOptions
@@ -265,9 +324,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> None:
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
-    if args.json is not None:
-        args.json.write_text(json.dumps(figures, indent=2, default=str) + "\n")
-        print(f"wrote {args.json}")
+    return figures
 
 
 if __name__ == "__main__":
