@@ -4,10 +4,13 @@ Painting step: a loaded small round brush drags across a canvas already covered 
 of four pigments, through each painting scene's model, on canvases of 1024 and 4096 pixels (the
 canvas size sets the cell size in texels, so the transfer's cost); median over the steps after a
 warm-up, with the phases (read: canvas to grid; solver; exchange with the brush; transport;
-write: grid to canvas). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
+write: grid to canvas). A last row takes the painting window's defaults instead: its new canvas
+(A4 at 0.1 mm) and brush (``round_large``), the default scene with the window's one solver
+thread (``--window-steps 0`` skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
 llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files).
 
     python benchmarks/bench_painting.py [--steps N] [--demo-runs N] [--sizes 1024 4096]
+                                        [--window-steps N]
 """
 
 from __future__ import annotations
@@ -21,8 +24,11 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from brushes import BrushPreset
+from paintapp.app.options import PaintOptions
+from paintapp.app.settings import PaintSettings, make_preset, make_scene
 from paintapp.canvas.model import Canvas
-from paintapp.paint.paint_scene import load_paint_scene
+from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 from paintapp.session.playback import replay
@@ -39,19 +45,42 @@ PHASES = ("read", "solver", "exchange", "transport", "write")
 CANVAS_M = {1024: 0.2, 4096: 0.4}
 
 
-def wet_canvas(pixels: int) -> Canvas:
-    """A square canvas covered with smoothly varying wet paint of four pigments."""
-    size = CANVAS_M.get(pixels, 0.2)
-    y, x = np.mgrid[0:pixels, 0:pixels] / pixels
-    paint = np.stack([1e-4 * (1.0 + np.sin(9.0 * x * (i + 1) + 4.0 * y * i)) for i in range(4)])
-    wet = np.ones((pixels, pixels), np.float32)
-    return Canvas((pixels, pixels), (size, size), PIGMENTS, paint.astype(np.float32), wet)
+def wet_canvas(pixels: int | tuple[int, int], size_m: tuple[float, float] | None = None) -> Canvas:
+    """A canvas (square, or (W, H) texels over ``size_m``) covered with smoothly varying wet
+    paint of four pigments."""
+    w, h = (pixels, pixels) if isinstance(pixels, int) else pixels
+    if size_m is None:
+        side = CANVAS_M.get(w, 0.2)
+        size_m = (side, side)
+    y, x = np.mgrid[0:h, 0:w] / max(w, h)
+    paint = np.stack(
+        [
+            (1e-4 * (1.0 + np.sin(9.0 * x * (i + 1) + 4.0 * y * i))).astype(np.float32)
+            for i in range(4)
+        ]
+    )
+    wet = np.ones((h, w), np.float32)
+    return Canvas((w, h), size_m, PIGMENTS, paint, wet)
 
 
-def bench_step(scene_name: str, pixels: int, steps: int) -> dict[str, float]:
-    """Median ms of a paint step and of its phases."""
-    canvas = wet_canvas(pixels)
-    session = PaintingSession(canvas, "round_small", load_paint_scene(scene_name))
+def window_case() -> tuple[Canvas, BrushPreset, PaintScene]:
+    """The painting window's defaults: its new canvas, brush and scene (one solver thread)."""
+    settings, options = PaintSettings(), PaintOptions()
+    canvas = wet_canvas(options.pixels, options.size_m)
+    return canvas, make_preset(settings), make_scene(settings, None)
+
+
+def bench_step(
+    scene_name: str, pixels: int, steps: int, case: tuple | None = None
+) -> dict[str, float]:
+    """Median ms of a paint step and of its phases (``case``: a canvas, brush and scene of
+    its own instead, as :func:`window_case` gives)."""
+    if case is None:
+        canvas = wet_canvas(pixels)
+        session = PaintingSession(canvas, "round_small", load_paint_scene(scene_name))
+    else:
+        canvas = case[0]
+        session = PaintingSession(canvas, case[1], case[2])
     session.load_pigment(PIGMENTS[0], 1e-8)
     size = canvas.size_m[0]
     spec = StrokeSpec((0.3 * size, 0.5 * size), (0.7 * size, 0.52 * size), (steps + 10) / 60.0,
@@ -100,6 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--demo-runs", type=int, default=3)
     parser.add_argument("--render-repeats", type=int, default=5)
     parser.add_argument("--sizes", type=int, nargs="+", default=[1024, 4096])
+    parser.add_argument("--window-steps", type=int, default=40,
+                        help="timed paint steps of the window's defaults (0 skips them)")  # fmt: skip
     args = parser.parse_args(argv)
     print("Painting step (median ms; round_small brush, 60 Hz samples)\n")
     print("| scene (model) | canvas | cell | step | " + " | ".join(PHASES) + " |")
@@ -112,6 +143,13 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"| {scene} ({model}) | {pixels}² | {r['cell_mm']:.2f} mm | {r['step']:.1f} | {phases} |"
             )
+    if args.window_steps > 0:
+        case = window_case()
+        r = bench_step(case[2].name, 0, args.window_steps, case)
+        phases = " | ".join(f"{r[p]:.1f}" for p in PHASES)
+        w, h = case[0].pixels
+        print(f"| window: {case[2].name}, {case[1].name}, 1 thread | {w}x{h} | "
+              f"{r['cell_mm']:.2f} mm | {r['step']:.1f} | {phases} |")  # fmt: skip
     print("\nCanvas render (median ms)\n")
     print("| canvas | full render | full upload | 64x64 dirty upload | readback |")
     print("|---|---|---|---|---|")

@@ -58,27 +58,33 @@ def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, te
     """Weighted sums over the texels of box (x0, y0, len(fx), len(fy)) into columns:
     ``out_mobile`` (P, ni, nj) gets the mobile paint (times ``loss_w``, (ny, nx), when
     ``textured``) and ``out_gain`` (ni, nj) the gain weights ``gain_w`` (when ``textured``).
-    Both are overwritten."""
+    Both are overwritten.
+
+    Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
+    column (``k`` of them) sums its three taps in registers and adds them to the row's columns
+    once, instead of a load and a store per tap and texel (each waiting on the last one's)."""
     n_p, ni, _ = out_mobile.shape
     nx, ny = fx.shape[0], fy.shape[0]
     out_mobile[:] = 0.0
     out_gain[:] = 0.0
+    if nx == 0:
+        return
     row = np.zeros((n_p, ni + TAPS - 1))  # padded: a texel's zero taps may pass the last column
     row_g = np.zeros(ni + TAPS - 1)
+    share = np.empty(nx)
     for y in range(ny):
         row[:] = 0.0
         row_g[:] = 0.0
+        wet_row = wetness[y0 + y]
         for x in range(nx):
-            share = _mobile_share(wetness[y0 + y, x0 + x])
-            if textured:
-                share *= loss_w[y, x]
-                g = gain_w[y, x]
-                for a in range(TAPS):
-                    row_g[fx[x] + a] += tx[x, a] * g
-            for p in range(n_p):
-                m = paint[p, y0 + y, x0 + x] * share
-                for a in range(TAPS):
-                    row[p, fx[x] + a] += tx[x, a] * m
+            share[x] = _mobile_share(wet_row[x0 + x])
+        if textured:
+            loss_row = loss_w[y]
+            for x in range(nx):
+                share[x] *= loss_row[x]
+            _runs_into(gain_w[y], 0, share, False, fx, tx, row_g)
+        for p in range(n_p):
+            _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
         j0 = fy[y]
         for c in range(TAPS):
             w = ty[y, c]
@@ -88,6 +94,29 @@ def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, te
                 for p in range(n_p):
                     out_mobile[p, i, j0 + c] += w * row[p, i]
                 out_gain[i, j0 + c] += w * row_g[i]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _runs_into(values, x0, share, shared, fx, tx, out):
+    """``out[fx[x] + a] += tx[x, a] * v`` for every texel ``x`` of a row (``v``: ``values[x0 + x]``,
+    times ``share[x]`` when ``shared``), summed in registers over each run of texels with the
+    same first column."""
+    cur = fx[0]
+    a0 = a1 = a2 = 0.0
+    for x in range(fx.shape[0]):
+        i = fx[x]
+        if i != cur:
+            out[cur] += a0
+            out[cur + 1] += a1
+            out[cur + 2] += a2
+            cur, a0, a1, a2 = i, 0.0, 0.0, 0.0
+        v = values[x0 + x] * share[x] if shared else values[x0 + x]
+        a0 += tx[x, 0] * v
+        a1 += tx[x, 1] * v
+        a2 += tx[x, 2] * v
+    out[cur] += a0
+    out[cur + 1] += a1
+    out[cur + 2] += a2
 
 
 @njit(cache=True, nogil=True)
@@ -239,6 +268,56 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
     return bad
 
 
+@njit(cache=True, nogil=True)
+def _sum(a):
+    """Sum of the 1D array ``a`` in eight interleaved partial sums: a single running sum waits
+    on each addition's latency (as :func:`solver.pcg.dot`)."""
+    size = a.size
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
+    end = size - size % 8
+    for m in range(0, end, 8):
+        s0 += a[m]
+        s1 += a[m + 1]
+        s2 += a[m + 2]
+        s3 += a[m + 3]
+        s4 += a[m + 4]
+        s5 += a[m + 5]
+        s6 += a[m + 6]
+        s7 += a[m + 7]
+    for m in range(end, size):
+        s0 += a[m]
+    return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
+
+
+@njit(cache=True, nogil=True)
+def _taken_slope(frac, mobile, scale):
+    """``(sum min(scale f, 1) m, sum of f m where scale f < 1, largest f where m > 0)`` over
+    the flat arrays ``frac`` and ``mobile``, in four interleaved partial sums each."""
+    size = frac.size
+    t0 = t1 = t2 = t3 = 0.0
+    d0 = d1 = d2 = d3 = 0.0
+    top = 0.0
+    end = size - size % 4
+    for n in range(0, end, 4):
+        f0, f1, f2, f3 = frac[n], frac[n + 1], frac[n + 2], frac[n + 3]
+        m0, m1, m2, m3 = mobile[n], mobile[n + 1], mobile[n + 2], mobile[n + 3]
+        t0 += min(scale * f0, 1.0) * m0
+        t1 += min(scale * f1, 1.0) * m1
+        t2 += min(scale * f2, 1.0) * m2
+        t3 += min(scale * f3, 1.0) * m3
+        d0 += f0 * m0 if scale * f0 < 1.0 else 0.0
+        d1 += f1 * m1 if scale * f1 < 1.0 else 0.0
+        d2 += f2 * m2 if scale * f2 < 1.0 else 0.0
+        d3 += f3 * m3 if scale * f3 < 1.0 else 0.0
+        top = max(top, max(f0 if m0 > 0.0 else 0.0, f1 if m1 > 0.0 else 0.0))
+        top = max(top, max(f2 if m2 > 0.0 else 0.0, f3 if m3 > 0.0 else 0.0))
+    for n in range(end, size):
+        t0 += min(scale * frac[n], 1.0) * mobile[n]
+        d0 += frac[n] * mobile[n] if scale * frac[n] < 1.0 else 0.0
+        top = max(top, frac[n] if mobile[n] > 0.0 else 0.0)
+    return (t0 + t1) + (t2 + t3), (d0 + d1) + (d2 + d3), top
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _bilinear(field, x, y):
     """``field`` (ny, nx) at texel coordinates (x, y) (texel centres at whole numbers), linear in
@@ -264,8 +343,8 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
     """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
     the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
     fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
-    (at least ``|d| + 1``); returns the sum of ``gain_s``. One pass per sample for both fields,
-    unsigned indices, the division by ``samples`` in the last pass."""
+    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). One pass per
+    sample for both fields, unsigned indices, the division by ``samples`` in the last pass."""
     ny, nx = gain_s.shape
     total = 0.0
     for k in range(samples):
@@ -290,10 +369,34 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
                 if last:
                     g /= samples
                     f /= samples
-                    total += g
                 g_out[x] = g
                 f_out[x] = f
+            if last:
+                total += _sum(g_out)
     return total
+
+
+@njit(cache=True, nogil=True)
+def _water_fill(frac_s, mobile, scale, lost):
+    """``(scale, taken)``: the scale at which the swept fractions take ``lost`` (to 1e-12 of
+    it), from ``scale``, and what they take, ``taken = sum min(scale f, 1) m`` (after 31 passes
+    without getting there: what the last pass took, before its step).
+
+    ``taken(s) = sum min(s f, 1) m`` is piecewise linear, increasing and concave in ``s``, so
+    Newton's method (the slope: the ``f m`` of the texels not yet emptied) reaches the root from
+    below monotonically and is exact once the set of emptied texels is right: two or three
+    passes where the fixed-point step ``s *= lost / taken`` took five to ten on a painting
+    window's texels. A step that would not leave ``s > 0`` (from above the root with most of the
+    paint in emptied texels), or no slope, falls back to that fixed-point step."""
+    frac, held = frac_s.reshape(-1), mobile.reshape(-1)
+    taken = 0.0
+    for _ in range(31):
+        taken, slope, _ = _taken_slope(frac, held, scale)
+        if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
+            break
+        step = scale + (lost - taken) / slope if slope > 0.0 else 0.0
+        scale = step if step > 0.0 and np.isfinite(step) else scale * lost / taken
+    return scale, taken
 
 
 @njit(cache=True, nogil=True)
@@ -328,19 +431,22 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     for y in range(ny):
         for x in range(nx):
             share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
+    loss_row = np.empty(nx)
     done = False
     for p in range(n_p):
         gained, lost = 0.0, 0.0
         for y in range(ny):
             row = paint[p, y0 + y]
+            gain_row = gain[pad_y + y, pad_x : pad_x + nx]
             for x in range(nx):
                 m = row[x0 + x] * share[y, x]
                 mobile[y, x] = m
                 c = new_mobile[p, y, x] - m
-                gain[pad_y + y, pad_x + x] = max(c, 0.0)
+                gain_row[x] = max(c, 0.0)
+                loss_row[x] = max(-c, 0.0)
                 frac[pad_y + y, pad_x + x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
-                gained += max(c, 0.0)
-                lost += max(-c, 0.0)
+            gained += _sum(gain_row)
+            lost += _sum(loss_row)
         if gained == 0.0 and lost == 0.0:
             continue
         swept = _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
@@ -349,24 +455,12 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         # The first pass of the water-filling (scale 1; the swept fractions are means of values
         # in 0..1, so nothing clips) also finds the largest fraction: when the scaled fractions
         # stay within 1, the second pass would only confirm the scale.
-        taken, top = 0.0, 0.0
-        for y in range(ny):
-            for x in range(nx):
-                taken += min(frac_s[y, x], 1.0) * mobile[y, x]
-                if mobile[y, x] > 0.0:
-                    top = max(top, frac_s[y, x])
+        taken, _, top = _taken_slope(frac_s.reshape(-1), mobile.reshape(-1), 1.0)
         scale = 1.0
         if taken > 0.0 and abs(taken - lost) > 1e-12 * lost:
             scale = lost / taken
-            if scale * top > 1.0:  # some texels clip: iterate
-                for _ in range(31):
-                    taken = 0.0
-                    for y in range(ny):
-                        for x in range(nx):
-                            taken += min(scale * frac_s[y, x], 1.0) * mobile[y, x]
-                    if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
-                        break
-                    scale *= lost / taken
+            if scale * top > 1.0:  # some texels clip: solve taken(scale) = lost
+                scale, taken = _water_fill(frac_s, mobile, scale, lost)
             else:
                 taken = lost
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from common.errors import InputError
 from paintapp.paint.paint_scene import parse_paint_scene
-from paintapp.paint.texel_transfer import sweep_change
+from paintapp.paint.texel_transfer import _water_fill, sweep_change
 
 
 def canvas_and_change(rng: np.random.Generator, pigments: int = 2):
@@ -74,3 +76,46 @@ def test_sweep_is_a_scene_switch_and_a_bad_value_names_the_key():
     with pytest.raises(InputError) as err:
         parse_paint_scene({"paint": {"sweep": 1}}, "s", "my_scene.toml")
     assert err.value.key == "paint.sweep" and "my_scene.toml" in str(err.value)
+
+
+def _taken(frac: np.ndarray, mobile: np.ndarray, scale: float) -> float:
+    return float(np.sum(np.minimum(scale * frac, 1.0) * mobile))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    share=st.floats(0.05, 0.999),
+    start=st.floats(0.2, 5.0),
+)
+def test_the_water_filling_finds_the_scale_that_takes_exactly_the_loss(seed, share, start):
+    # fractions in [0, 1] over texels holding paint (some none); the loss a share of all they
+    # hold, so a scale exists; Newton's steps from below or above the root must land on it
+    rng = np.random.default_rng(seed)
+    frac = rng.uniform(0.0, 1.0, (23, 37)) * (rng.random((23, 37)) > 0.2)
+    mobile = rng.uniform(0.0, 1e-5, (23, 37)) * (rng.random((23, 37)) > 0.1)
+    held = float(np.sum(mobile[frac > 0.0]))
+    lost = share * held
+    scale, taken = _water_fill(frac, mobile, start, lost)
+    assert scale > 0.0
+    assert abs(_taken(frac, mobile, scale) - lost) <= 1e-11 * lost
+    assert taken == pytest.approx(_taken(frac, mobile, scale), rel=1e-12)
+    # the root is unique where it is reached: a hair less takes less, a hair more takes more
+    # (unless every texel is emptied already)
+    assert _taken(frac, mobile, scale * (1 - 1e-6)) < lost
+    assert scale * frac[mobile > 0].max() >= 1.0 or _taken(frac, mobile, scale * (1 + 1e-6)) > lost
+
+
+def test_a_sweep_that_empties_texels_still_keeps_the_loss_and_takes_no_more_than_held():
+    # a long step over a thin film: the swept fractions clip in many texels (the water-filling
+    # iterates), the pigment's loss is kept to round-off and no texel goes negative
+    rng = np.random.default_rng(7)
+    paint, wet, mobile, _ = canvas_and_change(rng, pigments=3)
+    new = mobile.copy()
+    new[:, 8:22, 20:34] = 0.0  # all of it taken
+    new[:, 8:22, 34:38] += 4e-5
+    out = new.copy()
+    sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 11.0, 3.0,
+                 1.0)  # fmt: skip
+    assert out.min() >= 0.0 and not np.array_equal(out, new)
+    np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
