@@ -100,7 +100,7 @@ def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, te
 def _runs_into(values, x0, share, shared, fx, tx, out):
     """``out[fx[x] + a] += tx[x, a] * v`` for every texel ``x`` of a row (``v``: ``values[x0 + x]``,
     times ``share[x]`` when ``shared``), summed in registers over each run of texels with the
-    same first column."""
+    same first column. Written for :data:`TAPS` = 3; ``fx`` must not be empty."""
     cur = fx[0]
     a0 = a1 = a2 = 0.0
     for x in range(fx.shape[0]):
@@ -384,9 +384,10 @@ def _water_fill(frac_s, mobile, scale, lost):
 
     ``taken(s) = sum min(s f, 1) m`` is piecewise linear, increasing and concave in ``s``, so
     Newton's method (the slope: the ``f m`` of the texels not yet emptied) reaches the root from
-    below monotonically and is exact once the set of emptied texels is right: two or three
-    passes where the fixed-point step ``s *= lost / taken`` took five to ten on a painting
-    window's texels. A step that would not leave ``s > 0`` (from above the root with most of the
+    below monotonically and is exact once the set of emptied texels is right: two to four passes
+    on a painting window's texels where the fixed-point step ``s *= lost / taken`` took three to
+    31, its cap, at which it had stopped short of the root (and the sweep then kept the step's
+    unswept change). A step that would not leave ``s > 0`` (from above the root with most of the
     paint in emptied texels), or no slope, falls back to that fixed-point step."""
     frac, held = frac_s.reshape(-1), mobile.reshape(-1)
     taken = 0.0
