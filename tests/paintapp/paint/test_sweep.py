@@ -119,3 +119,25 @@ def test_a_sweep_that_empties_texels_still_keeps_the_loss_and_takes_no_more_than
                  1.0)  # fmt: skip
     assert out.min() >= 0.0 and not np.array_equal(out, new)
     np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
+
+
+def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
+    # The brush lifts all the wet paint of a wide patch of uneven paint: nearly all of the loss
+    # sits in texels the swept fractions empty, where the water-filling's scale converges
+    # slowly by fixed-point steps (it used to stop at its cap and keep the unswept change).
+    rng = np.random.default_rng(1)
+    paint = rng.uniform(2e-6, 2e-5, (1, 40, 60)).astype(np.float32)
+    wet = np.ones((40, 60), np.float32)
+    mobile = paint[:, 3:33, 5:55].astype(np.float64)
+    new = mobile.copy()
+    new[:, 5:25, 10:40] = 0.0
+    new[:, 5:25, 40:44] += 1e-4
+    out = new.copy()
+    assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 5.0,
+                        0.0, 1.0)  # fmt: skip
+    np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-9)
+    assert out.min() >= 0.0
+    # the loss laid back along the path: the texels behind the patch give paint now...
+    assert np.all(out[:, 5:25, 6:10] < mobile[:, 5:25, 6:10])
+    # ...and the patch's far end keeps some (its own loss moved back), none goes below zero
+    assert np.all(out[:, 5:25, 36:40] > 0.0)
