@@ -132,6 +132,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--window-steps", type=int, default=40,
                         help="timed paint steps of the window's defaults (0 skips them)")  # fmt: skip
     args = parser.parse_args(argv)
+    if args.steps < 1 or min(args.window_steps, args.demo_runs, args.render_repeats) < 0:
+        parser.error("--steps must be at least 1; --window-steps, --demo-runs and "
+                     "--render-repeats at least 0")  # fmt: skip
     print("Painting step (median ms; round_small brush, 60 Hz samples)\n")
     print("| scene (model) | canvas | cell | step | " + " | ".join(PHASES) + " |")
     print("|---|---|---|---|" + "---|" * len(PHASES))
