@@ -20,6 +20,7 @@ sample, 64² 1.15 -> 1.39, 128² 3.75 -> 3.69 (16512), 160² 5.91 -> 5.80 (25760
 
 from __future__ import annotations
 
+import functools
 import os
 import threading
 from collections.abc import Callable
@@ -59,11 +60,18 @@ def quota_cores(quota: str, period: str | None = None) -> int | None:
 
 def usable_cores() -> int:
     """The cores this process may run on: its affinity where the OS tells it, at most what a
-    container's CPU quota allows."""
+    container's CPU quota allows (read once per process: a step asks several times)."""
     try:
         cores = max(len(os.sched_getaffinity(0)), 1)
     except (AttributeError, OSError):
         cores = max(os.cpu_count() or 1, 1)
+    allowed = container_quota_cores()
+    return cores if allowed is None else min(cores, allowed)
+
+
+@functools.cache
+def container_quota_cores() -> int | None:
+    """The whole cores the first readable cgroup CPU quota allows, or None without one."""
     for quota_path, period_path in CGROUP_QUOTAS:
         try:
             with open(quota_path) as f:
@@ -76,8 +84,8 @@ def usable_cores() -> int:
             continue
         allowed = quota_cores(quota, period)
         if allowed is not None:
-            return min(cores, allowed)
-    return cores
+            return allowed
+    return None
 
 
 def thread_count(setting: int, samples_per_component: int, dim: int) -> int:

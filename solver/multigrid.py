@@ -510,6 +510,11 @@ class Multigrid:
         self.perm = tuple(int(a) for a in np.argsort(self.shape, kind="stable"))
         self.unperm = tuple(int(a) for a in np.argsort(self.perm))
         inner = tuple(self.shape[a] for a in self.perm)
+        self._inner_shape = inner
+        self._size0 = int(np.prod(inner))
+        # whether the grid's own C order already is the kernels' order (a 2D grid's is: its
+        # moved axis is one cell long)
+        self._same_order = bool(np.empty(self.shape).transpose(self.perm).flags.c_contiguous)
         shapes = level_shapes(inner)  # type: ignore[arg-type]
         sizes = [int(np.prod(s)) for s in shapes]
         self.shapes = np.array(shapes, dtype=np.int64)
@@ -520,6 +525,9 @@ class Multigrid:
         self.inv = np.zeros(total)
         self.active = np.zeros(total, dtype=np.bool_)
         self.work = np.zeros((6, total))
+        # the right-hand side and solution in the kernels' order, when that is not the grid's
+        self._b = np.zeros(sizes[0])
+        self._x = np.zeros(sizes[0])
         self.scales = np.array(scales, dtype=np.float64)
 
     @property
@@ -539,14 +547,16 @@ class Multigrid:
         """Take ``system`` as the finest level and build the coarse ones from it."""
         if tuple(system.diag.shape) != self.shape or system.dim != self.dim:
             raise ValueError(f"system shape {system.diag.shape} does not match {self.shape}")
-        n = system.diag.size
-        self.diag[:n] = self._inner(system.diag)
+        perm = self.perm
+        # each array copied once, straight into the packed level (a transposed view is read
+        # with its strides)
+        np.copyto(self._finest(self.diag), system.diag.transpose(perm))
         for a in range(3):
-            self.off[a][:n] = self._inner(system.off[self.perm[a]])
-        active = self._inner(system.active)
+            np.copyto(self._finest(self.off[a]), system.off[perm[a]].transpose(perm))
         # an entry cut off from every neighbour (a fluid cell walled in by solid) has a zero row:
         # it is no unknown
-        np.logical_and(active, self.diag[:n] > 0.0, out=self.active[:n])
+        np.logical_and(system.active.transpose(perm), self._finest(self.diag) > 0.0,
+                       out=self._finest(self.active))  # fmt: skip
         build_levels(self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
                      self.scales)  # fmt: skip
 
@@ -563,20 +573,25 @@ class Multigrid:
         thread while this one did other work)."""
         if tuple(b.shape) != self.shape or tuple(x.shape) != self.shape:
             raise ValueError(f"b and x must have the shape {self.shape}, got {b.shape}, {x.shape}")
-        flat_x = np.ascontiguousarray(self._inner(x))
+        if self._same_order:  # the kernels work on x itself where it is contiguous
+            flat_x = np.ascontiguousarray(x.transpose(self.perm)).reshape(-1)
+            flat_b = np.ascontiguousarray(b.transpose(self.perm)).reshape(-1)
+        else:
+            flat_x, flat_b = self._x[: x.size], self._b[: b.size]
+            np.copyto(self._finest(flat_x), x.transpose(self.perm))
+            np.copyto(self._finest(flat_b), b.transpose(self.perm))
         args = (self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
-                np.ascontiguousarray(self._inner(b)), flat_x, tol, max_iter, self.work)  # fmt: skip
+                flat_b, flat_x, tol, max_iter, self.work)  # fmt: skip
         if self.parallel:
             with parallel_section(self.threads):
                 it, res = mgpcg_flat(*args, PARALLEL_MIN_CELLS)
         else:
             it, res = mgpcg_flat(*args)
         if not np.shares_memory(flat_x, x):
-            inner = tuple(int(c) for c in self.shapes[0])
-            x[...] = flat_x.reshape(inner).transpose(self.unperm)
+            x[...] = self._finest(flat_x).transpose(self.unperm)
         return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
 
-    def _inner(self, a: np.ndarray) -> np.ndarray:
-        """``a`` (grid order) flattened in the kernels' axis order (a view when that is the
-        same)."""
-        return a.transpose(self.perm).reshape(-1)
+    def _finest(self, flat: np.ndarray) -> np.ndarray:
+        """The finest level's entries of a packed (or finest-sized) array, as a view shaped like
+        the grid in the kernels' axis order."""
+        return flat[: self._size0].reshape(self._inner_shape)

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from numba import njit
 
+from solver.faces import FREE, STATIC_SOLID
+
 FLUID = -1
 
 
@@ -174,3 +176,39 @@ def add_to_ring(q, dist, ring, unit, volume):
                     for p in range(n_p):
                         q[p, i, j, k] += volume[p] / (unit * count)
     return True
+
+
+@njit(cache=True, nogil=True)
+def paint_face_axis(u, frac, label, fluid_frac, min_fluid, axis, vel, types):
+    """The paint's velocity ``vel`` and face types ``types`` on the faces of ``axis`` (see
+    :func:`paintapp.paint.trail.paint_faces`): ``u`` times the open fraction ``frac``, where an
+    interior face beside a tip cell (label >= 0) is open in full, one beside a static solid
+    closed, and an interior face's fraction is divided by its upwind cell's fluid share (1 in a
+    tip cell, at least ``min_fluid``; with an empty ``fluid_frac``, no division). ``types``
+    comes in filled with ``BOUNDARY``; interior faces that pass paint become ``FREE``."""
+    ni, nj, nk = u.shape
+    cells = label.shape[axis]
+    di = 1 if axis == 0 else 0
+    dj = 1 if axis == 1 else 0
+    dk = 1 if axis == 2 else 0
+    divide = fluid_frac.size > 0
+    for i in range(ni):
+        for j in range(nj):
+            for k in range(nk):
+                f = frac[i, j, k]
+                m = i if axis == 0 else (j if axis == 1 else k)
+                if cells > 1 and 0 < m < cells:
+                    a = label[i - di, j - dj, k - dk]
+                    b = label[i, j, k]
+                    solid = a == STATIC_SOLID or b == STATIC_SOLID
+                    if not solid and (a >= 0 or b >= 0):
+                        f = 1.0
+                    if not solid and f > 0.0:
+                        types[i, j, k] = FREE
+                    if divide:
+                        if u[i, j, k] > 0.0:  # the upwind cell: below the face, or above
+                            tip, fluid = a >= 0, fluid_frac[i - di, j - dj, k - dk]
+                        else:
+                            tip, fluid = b >= 0, fluid_frac[i, j, k]
+                        f /= 1.0 if tip else max(fluid, min_fluid)
+                vel[i, j, k] = u[i, j, k] * f

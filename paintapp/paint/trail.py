@@ -27,8 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from paintapp.paint.exchange import CellSpace, place_pushed
-from paintapp.paint.kernels import sweep_overlap
-from solver.faces import BOUNDARY, FLUID, FREE, STATIC_SOLID
+from paintapp.paint.kernels import paint_face_axis, sweep_overlap
+from solver.faces import BOUNDARY, FLUID, STATIC_SOLID
 
 #: Smallest fluid fraction an upwind cell's paint concentration is taken over (a cell the tip
 #: all but covers would otherwise need ever more transport sub-steps).
@@ -47,27 +47,13 @@ def paint_faces(
     others nothing (``BOUNDARY``). Without open fractions (voxelized tips) the grid's own."""
     if open_frac is None:
         return comps, face_types
-    theta = None
-    if fluid_frac is not None:
-        theta = np.where(label >= 0, 1.0, np.maximum(fluid_frac, MIN_UPWIND_FLUID))
+    fluid = np.zeros((0, 0, 0)) if fluid_frac is None else fluid_frac
     vel, types = [], []
     for axis, (u, frac) in enumerate(zip(comps[: len(face_types)], open_frac, strict=False)):
         t = np.full(face_types[axis].shape, BOUNDARY, dtype=face_types[axis].dtype)
-        if label.shape[axis] > 1:
-            lo = [slice(None)] * 3
-            hi = [slice(None)] * 3
-            inner = [slice(None)] * 3
-            lo[axis], hi[axis], inner[axis] = slice(None, -1), slice(1, None), slice(1, -1)
-            a, b = label[tuple(lo)], label[tuple(hi)]
-            solid = (a == STATIC_SOLID) | (b == STATIC_SOLID)
-            frac = frac.copy()
-            into_tip = frac[tuple(inner)]
-            into_tip[~solid & ((a >= 0) | (b >= 0))] = 1.0
-            t[tuple(inner)] = np.where(~solid & (into_tip > 0.0), FREE, BOUNDARY)
-            if theta is not None:  # the upwind cell's paint is spread over its fluid part only
-                up = np.where(u[tuple(inner)] > 0.0, theta[tuple(lo)], theta[tuple(hi)])
-                into_tip /= up
-        vel.append(u * frac)
+        v = np.empty_like(u)
+        paint_face_axis(u, frac, label, fluid, MIN_UPWIND_FLUID, axis, v, t)
+        vel.append(v)
         types.append(t)
     return vel + comps[len(vel) :], types
 

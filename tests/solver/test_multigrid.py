@@ -72,6 +72,25 @@ def test_mgpcg_matches_direct_solve(shape, dim):
     assert np.all(x[~s.active] == 0.0)
 
 
+@pytest.mark.parametrize(("shape", "dim"), [((6, 9, 7), 3), ((9, 7, 6), 3), ((12, 10, 1), 2)])
+def test_a_solve_into_strided_arrays_gives_what_a_contiguous_one_gives(shape, dim):
+    """The grid's order (and strides) of ``b`` and ``x`` differ from the kernels' (shortest axis
+    first) or match it; either way the solve writes the same values into ``x`` and nothing
+    else of the array it is a view of."""
+    s = random_system(shape, dim, seed=3)
+    b = np.where(s.active, np.random.default_rng(2).standard_normal(shape), 0.0)
+    x = np.full(shape, 0.25)
+    Multigrid(shape, dim).solve(s, b, x, 1e-9, 200)
+    strided_b = np.zeros((2, *shape))
+    strided_b[1] = b
+    holder = np.full((*shape, 2), 7.0)
+    strided_x = holder[..., 0]
+    strided_x[...] = 0.25
+    Multigrid(shape, dim).solve(s, strided_b[1], strided_x, 1e-9, 200)
+    np.testing.assert_array_equal(strided_x, x)
+    assert np.all(holder[..., 1] == 7.0)
+
+
 @pytest.mark.parametrize(("n", "dim"), [(64, 2), (128, 2), (32, 3)])
 @pytest.mark.parametrize("outflow", [False, True])
 def test_poisson_takes_few_iterations_where_mic0_takes_many(n, dim, outflow):

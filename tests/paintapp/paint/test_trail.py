@@ -12,7 +12,7 @@ from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import CellSpace, cell_caps, plough_weights
 from paintapp.paint.kernels import sweep_overlap
 from paintapp.paint.paint_scene import load_paint_scene
-from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
+from paintapp.paint.trail import MIN_UPWIND_FLUID, lay_trail, paint_faces, vacated_share
 from paintapp.session.painting import PaintingSession, paint_inventory
 from solver.faces import FLUID, FREE, STATIC_SOLID
 from solver.scalar_transport import transport
@@ -79,6 +79,24 @@ def test_paint_enters_the_tip_and_never_a_static_solid():
     assert open_types[0][3] == FREE  # ... but open to the paint that follows the tip
     assert vel[0][3, 0, 0] == pytest.approx(1.0)  # at the face's own velocity
     assert open_types[0][4] != FREE  # a static solid takes nothing
+
+
+def test_a_face_s_paint_flux_is_spread_over_its_upwind_cell_s_fluid_part():
+    comps, types, label = one_row(5)
+    comps[0][:, 0, 0] = [0.0, 1.0, -1.0, 1.0, -1.0, 0.0]
+    label[4] = 0  # the tip
+    fluid = np.array([1.0, 0.5, 0.25, 0.05, 1.0]).reshape(5, 1, 1)
+    frac = [np.ones(c.shape) for c in comps]
+    vel, open_types = paint_faces(comps, types, label, frac, fluid)
+    # face 1 (flow +x): cell 0 upwind, all fluid; face 2 (-x): cell 2, a quarter; face 3 (+x):
+    # cell 2 again; face 4 (-x): the tip's cell, taken as whole
+    np.testing.assert_allclose(vel[0][1:5, 0, 0], [1.0, -1.0 / 0.25, 1.0 / 0.25, -1.0])
+    assert [int(t) for t in open_types[0][:, 0, 0]] == [1, FREE, FREE, FREE, FREE, 1]
+    fluid[2] = 0.01  # an all but covered cell counts as MIN_UPWIND_FLUID of fluid
+    vel, _ = paint_faces(comps, types, label, frac, fluid)
+    np.testing.assert_allclose(vel[0][2:4, 0, 0], [-1.0 / MIN_UPWIND_FLUID, 1.0 / MIN_UPWIND_FLUID])
+    vel, _ = paint_faces(comps, types, label, frac, None)  # no fractions: no spreading
+    np.testing.assert_allclose(vel[0][:, 0, 0], comps[0][:, 0, 0])
 
 
 def test_the_trail_takes_what_piled_against_the_tip_where_the_tip_left_room():
