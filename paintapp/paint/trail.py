@@ -44,7 +44,10 @@ def paint_faces(
 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Velocities and face types for the paint transport: each interior face between two cells
     that are not static solid carries the face velocity times its open fraction (``FREE``), the
-    others nothing (``BOUNDARY``). Without open fractions (voxelized tips) the grid's own."""
+    others nothing (``BOUNDARY``); a face beside a tip cell is open in full (paint follows the
+    tip). With ``fluid_frac``, a face's flux is spread over its upwind cell's fluid part only (at
+    least ``MIN_UPWIND_FLUID`` of it). Without open fractions (voxelized tips) the grid's own.
+    One kernel pass per axis (:func:`paintapp.paint.kernels.paint_face_axis`)."""
     if open_frac is None:
         return comps, face_types
     fluid = np.zeros((0, 0, 0)) if fluid_frac is None else fluid_frac
