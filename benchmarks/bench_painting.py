@@ -127,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=40, help="timed paint steps per case")
     parser.add_argument("--demo-runs", type=int, default=3)
-    parser.add_argument("--render-repeats", type=int, default=5)
+    parser.add_argument("--render-repeats", type=int, default=5, help="0 skips the render")
     parser.add_argument("--sizes", type=int, nargs="+", default=[1024, 4096])
     parser.add_argument("--window-steps", type=int, default=40,
                         help="timed paint steps of the window's defaults (0 skips them)")  # fmt: skip
@@ -153,15 +153,16 @@ def main(argv: list[str] | None = None) -> int:
         w, h = case[0].pixels
         print(f"| window: {case[2].name}, {case[1].name}, 1 thread | {w}x{h} | "
               f"{r['cell_mm']:.2f} mm | {r['step']:.1f} | {phases} |")  # fmt: skip
-    print("\nCanvas render (median ms)\n")
-    print("| canvas | full render | full upload | 64x64 dirty upload | readback |")
-    print("|---|---|---|---|---|")
-    for pixels in args.sizes:
-        t = bench_render(pixels, args.render_repeats)
-        if t is not None:
-            print(
-                f"| {pixels}² | {t['render']:.0f} | {t['upload']:.0f} | {t['dirty']:.2f} | {t['readback']:.0f} |"
-            )
+    if args.render_repeats > 0:
+        print("\nCanvas render (median ms)\n")
+        print("| canvas | full render | full upload | 64x64 dirty upload | readback |")
+        print("|---|---|---|---|---|")
+        for pixels in args.sizes:
+            t = bench_render(pixels, args.render_repeats)
+            if t is not None:
+                print(
+                    f"| {pixels}² | {t['render']:.0f} | {t['upload']:.0f} | {t['dirty']:.2f} | {t['readback']:.0f} |"
+                )
     if args.demo_runs > 0:
         times = bench_demo(args.demo_runs)
         print(f"\nDemo replay (session + servo loop, no files): median {statistics.median(times):.1f} s "
