@@ -20,7 +20,9 @@ and the window's share of it.
 each window run followed by its own headless run) and ends with a table of every round and the
 medians. The machines are shared and their speed drifts by tens of percent within minutes: the
 window's share of the headless rate is only meaningful between a window run and the headless run
-right after it, and its median over rounds says more than any one pair.
+right after it, and its median over rounds says more than any one pair. The table's last row,
+the servo's median tick cost (the same work every tick), shows how fast the machine ran during
+each round's window run.
 ``--json`` writes every figure to a file as well (the medians at the top level, each round's
 figures under ``"rounds"``).
 """
@@ -209,6 +211,7 @@ SUMMARY = (
     ("headless simulation rate", "{:.1f}"),
     ("window share of headless", "{:.0%}"),
     ("frame rate", "{:.1f}"),
+    ("servo tick cost p50 (us)", "{:.0f}"),
 )
 
 
