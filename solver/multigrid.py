@@ -507,7 +507,7 @@ class Multigrid:
         self.threads = int(threads)
         # A grid one cell deep (2D) is seen as (1, nx, ny), so that the kernels' innermost loop
         # runs along a long axis. A 3D grid keeps its own order, with no copies into another:
-        # shortest axis first was no faster on flat grids (32x32x4 to 64x64x16: 0.97-1.08x the
+        # shortest axis first was no faster on flat grids (32x32x4 to 64x64x16: 0.93-1.03x the
         # time of a load and solve), and slower with its copies on the painting grid (32x32x12).
         self.perm = (
             tuple(int(a) for a in np.argsort(self.shape, kind="stable"))
