@@ -31,6 +31,9 @@ GAUGE_PX = 70
 GAUGE_FULL_N = 0.02
 #: Room, px, the panel's repaint leaves it to grow right and down between two repaints.
 PANEL_SLACK_PX = 48
+#: The grid outline's colour and dash pattern (px on, px off).
+GRID_COLOUR = QColor(80, 220, 255, 220)
+GRID_DASH = (4, 2)
 
 
 @dataclass(frozen=True)
@@ -108,6 +111,7 @@ class HudOverlay(QWidget):
         self._font.setPointSize(9)
         self._metrics = QFontMetrics(self._font, self)
         self._image: QImage | None = None  # the panel, drawn once per refresh
+        self._dashes: tuple[int, QImage, QImage] | None = None  # the outline's strips
 
     def paintEvent(self, event) -> None:
         # The canvas beneath repaints its changed rectangles every frame, and Qt repaints this
@@ -122,8 +126,9 @@ class HudOverlay(QWidget):
         if not (draw_grid or draw_text):
             return
         painter = QPainter(self)
-        if draw_grid and status.grid_m is not None:
-            self._draw_grid(painter, status.grid_m)
+        outline = self._outline(status) if draw_grid else None
+        if outline is not None:
+            self._draw_grid(painter, outline, area)
         if draw_text:
             if self._image is None:
                 self._image, self._panel = self._draw_panel(status)
@@ -170,29 +175,62 @@ class HudOverlay(QWidget):
                 self.update(area)
 
     def _grid_rect(self, status: WorkerStatus) -> QRect:
-        """Where the grid outline is drawn (empty when it is not shown)."""
+        """Where the grid outline is drawn, with a margin (empty when it is not shown; the
+        whole widget when the mapping gives no sensible outline)."""
         if not self.show_grid or status.grid_m is None:
             return QRect()
+        outline = self._outline(status)
+        return self.rect() if outline is None else outline.adjusted(-3, -3, 3, 3)
+
+    def _outline(self, status: WorkerStatus) -> QRect | None:
+        """The grid outline's rectangle on whole pixels (None when it is not shown, or off any
+        sensible mapping)."""
+        if not self.show_grid or status.grid_m is None:
+            return None
         grid = status.grid_m
         mapping = self.mapping()
         x0, y1 = mapping.to_widget(grid[0], grid[1])
         x1, y0 = mapping.to_widget(grid[2], grid[3])
-        if not all(math.isfinite(v) for v in (x0, y0, x1, y1)):
-            return self.rect()
-        return QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect().adjusted(-3, -3, 3, 3)
+        if not all(math.isfinite(v) and abs(v) < 1e7 for v in (x0, y0, x1, y1)):
+            return None
+        return QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect()
 
-    def _draw_grid(self, painter: QPainter, grid: tuple[float, float, float, float]) -> None:
-        mapping = self.mapping()
-        x0, y1 = mapping.to_widget(grid[0], grid[1])
-        x1, y0 = mapping.to_widget(grid[2], grid[3])
-        # An axis-aligned outline on whole pixels needs no antialiasing, which made Qt's dashed
-        # stroke the HUD's costliest call (it is redrawn with every canvas repaint beneath).
-        painter.save()
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing, False)
-        painter.setPen(QPen(QColor(80, 220, 255, 220), 1, Qt.PenStyle.DashLine))
-        painter.setBrush(Qt.BrushStyle.NoBrush)
-        painter.drawRect(QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect())
-        painter.restore()
+    def _draw_grid(self, painter: QPainter, outline: QRect, area: QRect) -> None:
+        """The grid outline where it meets ``area``: a dashed 1-px line along the edges of
+        ``outline``, copied from a dashed strip across and one down made once per widget size
+        (Qt's dashed stroke redrew the whole outline with every canvas repaint beneath it, and
+        the painting holds the interpreter lock the simulation worker waits for)."""
+        x, y, w, h = outline.x(), outline.y(), outline.width(), outline.height()
+        period = sum(GRID_DASH)
+        across, down = self._dash_strips(max(self.width(), self.height()) + period)
+        sides = ((across, x, y, w + 1), (across, x, y + h, w + 1), (down, x, y, h + 1),
+                 (down, x + w, y, h + 1))  # fmt: skip
+        for strip, sx, sy, length in sides:
+            flat = strip is across
+            side = QRect(sx, sy, length, 1) if flat else QRect(sx, sy, 1, length)
+            part = side.intersected(area)
+            if part.isEmpty():
+                continue
+            phase = (part.left() - sx if flat else part.top() - sy) % period
+            source = QRect(phase, 0, part.width(), 1) if flat else QRect(0, phase, 1, part.height())
+            painter.drawImage(part.topLeft(), strip, source)
+
+    def _dash_strips(self, length: int) -> tuple[QImage, QImage]:
+        """A dashed line ``length`` px across and one down, in the outline's colour."""
+        if self._dashes is None or self._dashes[0] != length:
+            on, off = GRID_DASH
+            strips = []
+            for shape in ((length, 1), (1, length)):
+                image = QImage(*shape, QImage.Format.Format_ARGB32_Premultiplied)
+                image.fill(Qt.GlobalColor.transparent)
+                painter = QPainter(image)
+                for start in range(0, length, on + off):
+                    dash = (start, 0, on, 1) if shape[1] == 1 else (0, start, 1, on)
+                    painter.fillRect(*dash, GRID_COLOUR)
+                painter.end()
+                strips.append(image)
+            self._dashes = (length, strips[0], strips[1])
+        return self._dashes[1], self._dashes[2]
 
     def _text_box(self, lines: list[str]) -> QRectF:
         """The rectangle the text panel of ``lines`` covers."""

@@ -377,3 +377,46 @@ def test_the_window_shows_the_colours_of_the_preview(window, pump):
     shown = widget.shown_pixels()[round(py * ratio), round(px * ratio)].astype(int)
     preview = expected[snapshot.height - 1 - 240, 350].astype(int)
     assert np.abs(shown - preview).max() <= 3, (shown, preview)
+
+
+def test_the_grid_outline_drawn_in_pieces_is_the_outline_drawn_whole(qapp):
+    """The canvas beneath repaints changed rectangles, and the HUD redraws its grid outline
+    only where each meets it: any split into rectangles gives the same dashed outline."""
+    from PySide6.QtCore import QRect
+    from PySide6.QtGui import QImage, QPainter
+    from PySide6.QtWidgets import QWidget
+
+    from paintapp.app.hud import GRID_DASH, HudData, HudOverlay
+    from paintapp.app.input import ViewMapping
+    from paintapp.app.shared import WorkerStatus
+
+    parent = QWidget()
+    parent.resize(300, 200)
+    status = WorkerStatus(grid_m=(0.031, 0.042, 0.113, 0.094))
+    hud = HudOverlay(lambda: status, HudData, lambda: ViewMapping((0.3, 0.2), (300, 200)), parent)
+    hud.show_grid = True
+    outline = hud._outline(status)
+    assert outline is not None and hud._grid_rect(status) == outline.adjusted(-3, -3, 3, 3)
+
+    def drawn(areas: list[QRect]) -> np.ndarray:
+        image = QImage(300, 200, QImage.Format.Format_ARGB32_Premultiplied)
+        image.fill(0)
+        painter = QPainter(image)
+        for area in areas:
+            hud._draw_grid(painter, outline, area)
+        painter.end()
+        return np.frombuffer(image.constBits(), np.uint8).reshape(200, 300, 4).copy()
+
+    whole = drawn([QRect(0, 0, 300, 200)])
+    pieces = drawn([QRect(x, y, 37, 29) for x in range(0, 300, 37) for y in range(0, 200, 29)])
+    np.testing.assert_array_equal(pieces, whole)
+    lit = whole[..., 3] > 0
+    x, y, w, h = outline.x(), outline.y(), outline.width(), outline.height()
+    on_edges = np.zeros_like(lit)
+    on_edges[[y, y + h], x : x + w + 1] = True
+    on_edges[y : y + h + 1, [x, x + w]] = True
+    assert lit.any() and not (lit & ~on_edges).any()  # nothing off the outline
+    on, off = GRID_DASH
+    top = lit[y, x : x + w + 1]
+    assert list(top[: 2 * (on + off)]) == ([True] * on + [False] * off) * 2
+    assert not drawn([QRect(x + 2, y + 2, w - 3, h - 3)]).any()  # nothing inside it
