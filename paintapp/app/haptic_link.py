@@ -36,6 +36,7 @@ from paintapp.haptics.device import DeviceState, HapticDevice
 from paintapp.haptics.devices.hid import HidDevice
 from paintapp.haptics.devices.hid_transport import open_hid, parse_ids
 from paintapp.haptics.devices.simulated import SimulatedDevice
+from paintapp.haptics.metrics import interval_stats
 from paintapp.haptics.orientation import tilt_twist_from_quat
 from paintapp.haptics.process import ProcessOptions, ServoProcess
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
@@ -135,10 +136,8 @@ class MeteredClock(RealTimeClock):
         n = min(self._count, METER_TICKS)
         if n < 2:
             return 0.0, 0.0, n
-        data = self._intervals[:n].copy()
-        mean = float(np.mean(data))
-        jitter = float(np.percentile(np.abs(data - self.period_s), 99))
-        return (1.0 / mean if mean > 0 else 0.0), 1e3 * jitter, n
+        rate, jitter = interval_stats(self._intervals[:n].copy(), self.period_s)
+        return rate, jitter, n
 
 
 def make_device(spec: DeviceSpec, clock: RealTimeClock, target: PointerTarget) -> HapticDevice:

@@ -15,6 +15,22 @@ import numpy as np
 _CHUNK = 4096
 
 
+def interval_stats(intervals: np.ndarray, period_s: float) -> tuple[float, float]:
+    """(rate Hz, jitter p99 ms) of a loop from the intervals between its ticks' starts (at
+    least two): the rate from their mean, the jitter the 99th percentile of
+    ``|interval - period|`` (numpy's linear interpolation, from a partial sort: the HUD asks ten
+    times a second, holding the interpreter lock)."""
+    n = len(intervals)
+    mean = float(np.mean(intervals))
+    deviation = np.abs(intervals - period_s)
+    pos = 0.99 * (n - 1)
+    lo = int(pos)
+    hi = min(lo + 1, n - 1)
+    part = np.partition(deviation, (lo, hi))
+    jitter = float(part[lo] + (pos - lo) * (part[hi] - part[lo]))
+    return (1.0 / mean if mean > 0 else 0.0), 1e3 * jitter
+
+
 @dataclass(frozen=True)
 class TimingReport:
     """Timing figures of one run of a periodic loop. Times in seconds unless named otherwise.

@@ -33,6 +33,7 @@ import numpy.typing as npt
 
 from paintapp.haptics.channel import ForceChannel, ForceSample, StateChannel
 from paintapp.haptics.device import DeviceState
+from paintapp.haptics.metrics import interval_stats
 
 #: Width of one force record: t_s, force (3), torque (3).
 FORCE_WIDTH = 7
@@ -128,10 +129,8 @@ class TimingRing:
         n = min(int(self._count[0]), RING_TICKS)
         if n < 2:
             return 0.0, 0.0, n
-        data = self.rows[:n, 0].copy()
-        mean = float(np.mean(data))
-        jitter = float(np.percentile(np.abs(data - period_s), 99))
-        return (1.0 / mean if mean > 0 else 0.0), 1e3 * jitter, n
+        rate, jitter = interval_stats(self.rows[:n, 0].copy(), period_s)
+        return rate, jitter, n
 
 
 class SharedBlock:

@@ -1,11 +1,15 @@
 """Overlay geometry: the brush outline and force arrows, as triangles in canvas metres.
 
 Lines are built as thin triangle strips (core-profile GL has no reliable wide lines), with their
-width given in output pixels so they stay visible at any zoom.
+width given in output pixels so they stay visible at any zoom. The painting window asks for the
+same overlay twice a frame (where it is, then to draw it) and again in the frames before the
+brush moves: the last few results are kept (read-only arrays), as the numpy work holds the
+interpreter lock the simulation worker waits for.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -59,7 +63,36 @@ def _segment_quads(points: np.ndarray, width_m: float) -> np.ndarray:
 
 
 def outline_triangles(outline: BrushOutline, pixel_m: float, width_px: float = 2.0) -> np.ndarray:
-    """Triangles of the brush outline ring, shape (M, 2) float32, metres."""
+    """Triangles of the brush outline ring, shape (M, 2) float32, metres (read-only)."""
+    return _kept(_outline_triangles, outline, pixel_m, width_px)
+
+
+def arrow_triangles(arrow: ForceArrow, pixel_m: float, width_px: float = 3.0) -> np.ndarray:
+    """Triangles of a force arrow (shaft and head), shape (M, 2) float32; empty for zero force
+    (read-only)."""
+    return _kept(_arrow_triangles, arrow, pixel_m, width_px)
+
+
+def _kept(build, shape, pixel_m: float, width_px: float) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """``build(shape, pixel_m, width_px)``, from the last few results where the same overlay was
+    asked for (an overlay whose fields are not hashable is built anew)."""
+    try:
+        return _kept_result(build, shape, pixel_m, width_px)
+    except TypeError:
+        return _read_only(build(shape, pixel_m, width_px))
+
+
+@functools.lru_cache(maxsize=8)
+def _kept_result(build, shape, pixel_m: float, width_px: float) -> np.ndarray:  # type: ignore[no-untyped-def]
+    return _read_only(build(shape, pixel_m, width_px))
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+def _outline_triangles(outline: BrushOutline, pixel_m: float, width_px: float = 2.0) -> np.ndarray:
     count = 72
     t = np.linspace(0.0, 2.0 * math.pi, count + 1)
     rx, ry = outline.radii_m
@@ -69,8 +102,7 @@ def outline_triangles(outline: BrushOutline, pixel_m: float, width_px: float = 2
     return _segment_quads(points, width_px * pixel_m).astype(np.float32)
 
 
-def arrow_triangles(arrow: ForceArrow, pixel_m: float, width_px: float = 3.0) -> np.ndarray:
-    """Triangles of a force arrow (shaft and head), shape (M, 2) float32; empty for zero force."""
+def _arrow_triangles(arrow: ForceArrow, pixel_m: float, width_px: float = 3.0) -> np.ndarray:
     fx, fy = float(arrow.force_n[0]), float(arrow.force_n[1])
     vector = np.array([fx, fy]) * arrow.metres_per_newton
     length = float(np.hypot(*vector))

@@ -7,10 +7,12 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from common.errors import InputError
 from paintapp.haptics.clock import RealTimeClock, VirtualClock
-from paintapp.haptics.metrics import TimingRecorder
+from paintapp.haptics.metrics import TimingRecorder, interval_stats
 
 
 def test_virtual_clock_ticks_on_schedule_and_continues() -> None:
@@ -86,3 +88,15 @@ def test_real_time_clock_background_thread_runs_until_stopped() -> None:
     assert not clock.running
     assert report is not None and report.ticks == len(times) > 0
     assert np.all(np.diff(times) > 0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.floats(1e-5, 0.05, allow_nan=False), min_size=2, max_size=3000),
+    st.sampled_from([1e-3, 5e-4, 2e-3]),
+)
+def test_the_live_jitter_is_numpy_s_99th_percentile(intervals, period_s):
+    data = np.array(intervals)
+    rate, jitter_ms = interval_stats(data, period_s)
+    assert rate == pytest.approx(1.0 / np.mean(data), rel=1e-12)
+    assert jitter_ms == pytest.approx(1e3 * np.percentile(np.abs(data - period_s), 99), rel=1e-12)

@@ -430,3 +430,25 @@ def test_a_reduced_renderer_draws_a_blocky_canvas_as_the_full_one_does(ctx, libr
         renderer.release()
     np.testing.assert_allclose(pictures[1], pictures[0], rtol=2e-3, atol=1e-4)
     assert_matches(pictures[1], reference(blocks, library))
+
+
+def test_overlay_triangles_are_kept_read_only_and_equal_a_fresh_build():
+    from paintapp.render.overlays import (
+        _arrow_triangles,
+        _outline_triangles,
+        arrow_triangles,
+        outline_triangles,
+    )
+
+    outline = BrushOutline((0.031, 0.047), (0.004, 0.003), 0.3)
+    first = outline_triangles(outline, 1e-4)
+    again = outline_triangles(BrushOutline((0.031, 0.047), (0.004, 0.003), 0.3), 1e-4)
+    assert again is first and not first.flags.writeable
+    np.testing.assert_array_equal(first, _outline_triangles(outline, 1e-4))
+    moved = outline_triangles(BrushOutline((0.032, 0.047), (0.004, 0.003), 0.3), 1e-4)
+    np.testing.assert_allclose(moved - first, np.tile([0.001, 0.0], (len(first), 1)), atol=1e-7)
+    arrow = ForceArrow((0.03, 0.04), (0.01, -0.02, 0.0), 0.5)
+    np.testing.assert_array_equal(arrow_triangles(arrow, 1e-4), _arrow_triangles(arrow, 1e-4))
+    # fields that cannot be hashed (arrays) are built anew, with the same values
+    loose = BrushOutline(np.array([0.031, 0.047]), (0.004, 0.003), 0.3)  # type: ignore[arg-type]
+    np.testing.assert_array_equal(outline_triangles(loose, 1e-4), first)
