@@ -95,8 +95,9 @@ def main(argv: list[str] | None = None) -> int:
     holder.start()
     rates: dict[bool, list[float]] = {False: [], True: []}
     busy_s = 0.0
-    runs = [(r, busy) for r in range(args.rounds) for busy in ((False, True) if r % 2 == 0 else (True, False))]  # fmt: skip
-    for _, busy in tqdm(runs, desc="runs", leave=False, file=sys.stderr, disable=None):
+    order = ((False, True), (True, False))  # alternate which goes first
+    runs = [busy for r in range(args.rounds) for busy in order[r % 2]]
+    for busy in tqdm(runs, desc="runs", leave=False, file=sys.stderr, disable=None):
         (holder.busy.set if busy else holder.busy.clear)()
         start = time.perf_counter()
         rates[busy].append(steps_per_second(args.steps))

@@ -77,9 +77,10 @@ def _kept(build, shape, pixel_m: float, width_px: float) -> np.ndarray:  # type:
     """``build(shape, pixel_m, width_px)``, from the last few results where the same overlay was
     asked for (an overlay whose fields are not hashable is built anew)."""
     try:
-        return _kept_result(build, shape, pixel_m, width_px)
+        hash(shape)
     except TypeError:
         return _read_only(build(shape, pixel_m, width_px))
+    return _kept_result(build, shape, pixel_m, width_px)
 
 
 @functools.lru_cache(maxsize=8)
