@@ -19,7 +19,13 @@ GNU OpenMP's threads spin after a parallel loop, waiting for the next, 300000 tu
 long enough to take the core from the solver's own component threads in the sub-step that
 follows (3D 64³, advection 17.9 -> 23.1 ms a step). Unless the environment says otherwise, they
 spin :data:`SPIN_COUNT` turns, which still keeps them awake between the loops of one solve
-(``GOMP_SPINCOUNT``, read when OpenMP is loaded: at the first parallel loop, after this import).
+(``GOMP_SPINCOUNT``, read when OpenMP is loaded: by this import, just after it is set).
+
+The threading layer is started when this module is imported, before any kernel loads from the
+cache. A serial kernel that calls a parallel twin (the small dispatchers that pick one of the
+two) and was compiled in an earlier process crashed the process when it was loaded from the
+cache into one whose threading layer had not started yet, even on its serial path: a segfault,
+not an exception (numba 0.68, as in numba's issue #8578).
 """
 
 from __future__ import annotations
@@ -40,6 +46,7 @@ NEVER = 2**62
 SPIN_COUNT = "10000"
 
 os.environ.setdefault("GOMP_SPINCOUNT", SPIN_COUNT)
+numba.get_num_threads()  # starts the threading layer (module docstring)
 
 _section = threading.Lock()
 

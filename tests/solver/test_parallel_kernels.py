@@ -61,3 +61,58 @@ def test_openmp_threads_spin_briefly_unless_the_environment_says_otherwise():
     env = {k: v for k, v in os.environ.items() if k != "GOMP_SPINCOUNT"}
     assert _spin_count_in_a_fresh_process(env) == SPIN_COUNT
     assert _spin_count_in_a_fresh_process({**env, "GOMP_SPINCOUNT": "5"}) == "5"
+
+
+_DISPATCH_MODULE = """
+import sys
+
+import numpy as np
+from numba import njit, prange
+
+from solver.parallel_kernels import NEVER, parallel_section, serial_and_parallel
+
+
+def _fill(a):
+    for n in prange(a.size):
+        a[n] = n
+
+
+FILL_S, FILL_P = serial_and_parallel(_fill)
+
+
+@njit(cache=True, nogil=True)
+def fill(par, a):
+    if par:
+        FILL_P(a)
+    else:
+        FILL_S(a)
+
+
+@njit(cache=True, nogil=True)
+def run(a, par_cells=NEVER):
+    fill(a.size >= par_cells, a)
+    return a.sum()
+
+
+a = np.zeros(10)
+if sys.argv[1] == "parallel":
+    with parallel_section(2):
+        print(run(a, 5))
+else:
+    print(run(a))
+"""
+
+
+def test_a_cached_kernel_that_dispatches_to_parallel_twins_loads_in_a_fresh_process(tmp_path):
+    """The solver's pattern (:func:`solver.multigrid.mgpcg_flat`): a cached kernel whose
+    ``par_cells`` picks, through a small dispatcher, one of two twins; compiled with the argument
+    in one process, without it in a second, and loaded from the cache in a third. Before the
+    threading layer was started at import, the third process died of a segfault."""
+    module = tmp_path / "dispatch.py"
+    module.write_text(_DISPATCH_MODULE)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    for mode in ("parallel", "serial", "serial", "serial"):
+        run = subprocess.run([sys.executable, str(module), mode], env=env, cwd=tmp_path,
+                             capture_output=True, text=True, timeout=300)  # fmt: skip
+        assert run.returncode == 0, (mode, run.returncode, run.stderr[-2000:])
+        assert float(run.stdout) == 45.0
