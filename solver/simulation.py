@@ -32,7 +32,7 @@ from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.multigrid import DIFFUSION_SCALES, Multigrid
-from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve, solve_jacobi
+from solver.pcg import JacobiPCG, LinearSolve, SolveReport, StencilSystem, solve
 from solver.probes import Probe
 from solver.projection import divergence_sum, project, subtract_gradient
 from solver.solver_settings import (
@@ -650,10 +650,11 @@ def _linear_solver(
     name: str, shape: tuple[int, int, int], dim: int, scales: tuple[float, float] | None = None
 ) -> LinearSolve:
     """The solve for systems over ``shape``: MGPCG with a hierarchy kept for the grid (built
-    once; the grid's shape never changes), or MIC(0)-PCG."""
+    once; the grid's shape never changes), diagonal-preconditioned CG with its scratch kept
+    likewise, or MIC(0)-PCG."""
     if name == "mic0":
         return solve
     if name == "jacobi":
-        return solve_jacobi
+        return JacobiPCG(shape).solve
     mg = Multigrid(shape, dim) if scales is None else Multigrid(shape, dim, scales)
     return mg.solve

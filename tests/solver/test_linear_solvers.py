@@ -1,4 +1,5 @@
-"""MIC(0)- and diagonally preconditioned CG against a direct sparse solve."""
+"""MIC(0)- and diagonally preconditioned CG against a direct sparse solve; the diagonal one's
+kept scratch."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from solver.pcg import solve, solve_jacobi
+from solver.pcg import JacobiPCG, solve, solve_jacobi
 from solver.solver_settings import JACOBI_LIMIT, SolverSettings
 from tests.support.stencil_systems import random_system, to_sparse
 
@@ -52,3 +53,26 @@ def test_auto_viscosity_preconditioner_follows_the_coupling():
     assert auto.viscosity_solver(JACOBI_LIMIT) == "jacobi"
     assert auto.viscosity_solver(10.0 * JACOBI_LIMIT) == "multigrid"
     assert SolverSettings(viscosity_preconditioner="mic0").viscosity_solver(0.1) == "mic0"
+
+
+def test_a_kept_jacobi_solver_gives_each_system_what_a_fresh_one_gives():
+    """Its scratch (inverse diagonal, residual, direction, product) is rebuilt by every solve:
+    a solve after another system's gives the bits of a first solve; a non-contiguous x gets its
+    solution."""
+    shape = (9, 8, 7)
+    kept = JacobiPCG(shape)
+    for seed in (5, 6, 5):
+        s = random_system(shape, 3, seed=seed)
+        b = np.where(s.active, np.random.default_rng(seed).standard_normal(shape), 0.0)
+        x_kept, x_fresh = np.zeros(shape), np.zeros(shape)
+        kept_report = kept.solve(s, b, x_kept, 1e-9, 300)
+        fresh_report = JacobiPCG(shape).solve(s, b, x_fresh, 1e-9, 300)
+        assert kept_report == fresh_report and kept_report.converged
+        assert np.array_equal(x_kept, x_fresh)
+    holder = np.zeros((2 * shape[0], *shape[1:]))
+    strided = holder[::2]
+    report = kept.solve(s, b, strided, 1e-9, 300)
+    assert report == fresh_report and np.array_equal(strided, x_fresh)
+    assert np.all(holder[1::2] == 0.0)
+    with pytest.raises(ValueError, match="shape"):
+        kept.solve(s, b[:-1], x_kept[:-1], 1e-9, 300)
