@@ -22,7 +22,11 @@ medians. The machines are shared and their speed drifts by tens of percent withi
 window's share of the headless rate is only meaningful between a window run and the headless run
 right after it, and its median over rounds says more than any one pair. The table's last row,
 the servo's median tick cost (the same work every tick), shows how fast the machine ran during
-each round's window run.
+each round's window run. Three more rows give the share of the machine's CPU time that the host
+took during each round's window run (over the run, and its largest over any half second) and its
+headless run (Linux's steal counter; on a virtual machine, time in which its CPUs had work but
+the hypervisor ran something else): a round with steal is a round in which the host, not the
+program, set part of the figures.
 ``--json`` writes every figure to a file as well (the medians at the top level, each round's
 figures under ``"rounds"``).
 """
@@ -212,6 +216,9 @@ SUMMARY = (
     ("window share of headless", "{:.0%}"),
     ("frame rate", "{:.1f}"),
     ("servo tick cost p50 (us)", "{:.0f}"),
+    ("host CPU steal, window run", "{:.1%}"),
+    ("host CPU steal peak, window run", "{:.1%}"),
+    ("host CPU steal, headless run", "{:.1%}"),
 )
 
 
@@ -261,6 +268,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     from paintapp.app.haptic_link import parse_device
     from paintapp.app.launch import create_window
     from paintapp.app.options import PaintOptions
+    from paintapp.bench.host_steal import StealMonitor
 
     if args.switch_interval_ms is not None:
         sys.setswitchinterval(1e-3 * args.switch_interval_ms)
@@ -276,7 +284,8 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     wait_until_ready(app, win)
     win.load_pigment("ultramarine_blue")
     win.hud.show_grid = True
-    rates = paint(app, win, args.seconds)
+    with StealMonitor() as window_steal:
+        rates = paint(app, win, args.seconds)
     print(f"window {win.canvas_widget.width()}x{win.canvas_widget.height()} px, "
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
     print(f"frame rate      {rates['frame_hz']:7.1f} Hz ({rates['drawn_hz']:.1f} Hz with changes)")
@@ -294,6 +303,10 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
         "frames with changes": rates["drawn_hz"],
     }
     figures["simulation rate"] = rates["sim_hz"]
+    print(f"host CPU steal  {window_steal.describe()} of the machine's CPU time (half seconds)")
+    if window_steal.share is not None:
+        figures["host CPU steal, window run"] = window_steal.share
+        figures["host CPU steal peak, window run"] = window_steal.peak
     if win.link is not None:
         link = win.link
         rate, jitter, _ = link.live()
@@ -321,12 +334,16 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     figures["load_after"] = os.getloadavg()[0]
     headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
     if headless_s > 0:
-        headless, headless_cpu = headless_rate(headless_s, tmp / "bench.jsonl")
+        with StealMonitor() as headless_steal:
+            headless, headless_cpu = headless_rate(headless_s, tmp / "bench.jsonl")
         share = rates["sim_hz"] / headless if headless > 0 else 0.0
         print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %), "
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
+        print(f"host CPU steal  {headless_steal.describe()} during the headless run")
+        if headless_steal.share is not None:
+            figures["host CPU steal, headless run"] = headless_steal.share
     return figures
 
 

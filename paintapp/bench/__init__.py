@@ -9,5 +9,6 @@ cavity, Schaefer-Turek c_D, Taylor-Green decay), :mod:`~paintapp.bench.square_sw
 (simulation rate against the servo rate, per reconstruction filter), :mod:`~paintapp.bench.report`
 (table, Pareto plot); and the timing checks behind other commands and scripts:
 :mod:`~paintapp.bench.servo_check` (``paintapp haptics-check``) and
-:mod:`~paintapp.bench.render_timing` (the renderer).
+:mod:`~paintapp.bench.render_timing` (the renderer), with :mod:`~paintapp.bench.host_steal` (the CPU time
+the host took meanwhile).
 """

@@ -4,7 +4,8 @@ beside a running 3D simulation, and collect the timing figures (``paintapp hapti
 Each run takes one of the two forms the window can use: the loop in a thread of this process
 (:func:`run_once`), or in a servo process of its own (:func:`run_process_once`, the window's
 default) with the force samples crossing through shared memory; the process form also reports
-what the OS granted it (priority, core, GC) and audits every device write.
+what the OS granted it (priority, core, GC) and audits every device write. Every run reports the
+share of the machine's CPU time the host took meanwhile (:mod:`~paintapp.bench.host_steal`).
 
 Idle, a light thread stands in for the painting session and publishes a synthetic viscous drag
 at 60 Hz. Under load, a thread steps the 3D scene ``sphere_stir_3d.toml`` as fast as it can and
@@ -22,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from paintapp.bench.host_steal import StealMonitor
 from paintapp.haptics.channel import ForceChannel, ForceSample
 from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.devices.simulated import SimulatedDevice
@@ -45,6 +47,8 @@ class CheckRun:
         max_force_n: the largest force written to the device, N.
         granted: where the loop ran and what the OS granted it.
         bad_writes: non-finite or over-limit device writes (process form; None: not audited).
+        host_steal: the share of the machine's CPU time the host took during the run, over the
+            run and its largest over any half second ("-": unknown).
     """
 
     label: str
@@ -54,6 +58,7 @@ class CheckRun:
     max_force_n: float
     granted: str = "thread in this process"
     bad_writes: int | None = None
+    host_steal: str = "-"
 
 
 def load_simulation() -> tuple[SimStep, str]:
@@ -134,25 +139,27 @@ def run_once(
     loop = ServoLoop(device, config=config)
     loop.open()
     try:
-        if simulation is None:
-            stop = threading.Event()
-            source = ViscousDragSource(loop.states, loop.forces)
-            thread = run_source_thread(source, 60.0, stop)
-            _run_loop(loop, clock, seconds, progress)
-            stop.set()
-            thread.join(1.0)
-            label, where, published = "idle", "synthetic drag, 60 Hz", source.published
-        else:
-            step, where = simulation
-            forces = loop.forces
-            with _simulation_thread(step, forces) as count:
+        with StealMonitor() as steal:
+            if simulation is None:
+                stop = threading.Event()
+                source = ViscousDragSource(loop.states, loop.forces)
+                thread = run_source_thread(source, 60.0, stop)
                 _run_loop(loop, clock, seconds, progress)
-                published = count[0]
-            label = "beside 3D simulation"
+                stop.set()
+                thread.join(1.0)
+                label, where, published = "idle", "synthetic drag, 60 Hz", source.published
+            else:
+                step, where = simulation
+                forces = loop.forces
+                with _simulation_thread(step, forces) as count:
+                    _run_loop(loop, clock, seconds, progress)
+                    published = count[0]
+                label = "beside 3D simulation"
         report = loop.report()
     finally:
         loop.close()
-    return CheckRun(label, report, where, published, device.max_force_written_n)
+    return CheckRun(label, report, where, published, device.max_force_written_n,
+                    host_steal=steal.describe())  # fmt: skip
 
 
 def run_process_once(
@@ -166,20 +173,21 @@ def run_process_once(
     servo = ServoProcess(ProcessOptions(device="sim:stroke", config=config))
     servo.start()
     try:
-        if simulation is None:
-            stop = threading.Event()
-            source = ViscousDragSource(servo.states, servo.forces)
-            thread = run_source_thread(source, 60.0, stop)
-            _wait(seconds, progress)
-            stop.set()
-            thread.join(1.0)
-            label, where, published = "process, idle", "synthetic drag, 60 Hz", source.published
-        else:
-            step, where = simulation
-            with _simulation_thread(step, servo.forces) as count:
+        with StealMonitor() as steal:
+            if simulation is None:
+                stop = threading.Event()
+                source = ViscousDragSource(servo.states, servo.forces)
+                thread = run_source_thread(source, 60.0, stop)
                 _wait(seconds, progress)
-                published = count[0]
-            label = "process, beside 3D"
+                stop.set()
+                thread.join(1.0)
+                label, where, published = "process, idle", "synthetic drag, 60 Hz", source.published
+            else:
+                step, where = simulation
+                with _simulation_thread(step, servo.forces) as count:
+                    _wait(seconds, progress)
+                    published = count[0]
+                label = "process, beside 3D"
     finally:
         report = servo.stop()
     if report is None:
@@ -187,7 +195,9 @@ def run_process_once(
     audit = servo.audit()
     bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
     max_force = float(audit.get("max_force_n", 0.0))
-    return CheckRun(label, report, where, published, max_force, servo.granted, bad)
+    return CheckRun(
+        label, report, where, published, max_force, servo.granted, bad, steal.describe()
+    )
 
 
 def _wait(seconds: float, progress: Callable[[float], None] | None) -> None:
@@ -225,6 +235,7 @@ def format_table(runs: list[CheckRun]) -> str:
     rows.append(
         ("bad device writes", ["-" if r.bad_writes is None else str(r.bad_writes) for r in runs])
     )
+    rows.append(("host CPU steal", [r.host_steal for r in runs]))
     width = max(len(name) for name, _ in rows) + 2
     cols = [max(len(v[i]) for _, v in rows) + 2 for i in range(len(runs))]
     lines = [

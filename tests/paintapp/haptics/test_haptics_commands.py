@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from paintapp.bench import servo_check as check
@@ -108,6 +110,9 @@ def test_haptics_check_runs_the_process_form(
     assert "servo process: " in out and "GC off" in out  # what the OS granted it
     bad = next(line for line in out.splitlines() if line.startswith("bad device writes"))
     assert bad.split()[-2:] == ["0", "0"]
+    steal = next(line for line in out.splitlines() if line.startswith("host CPU steal"))
+    cells = re.findall(r"\d+\.\d % \(peak \d+\.\d %\)", steal)  # per run, or - where unknown
+    assert len(cells) == 2 or steal.split()[-2:] == ["-", "-"]
     assert "verdict: process" in out
 
 
