@@ -82,6 +82,14 @@ def format_share(share: float | None) -> str:
     return "-" if share is None else f"{100.0 * share:.1f} %"
 
 
+def describe_steal(share: float | None, peak: float | None) -> str:
+    """``"0.4 % (peak 9.3 %)"`` for a block's share and its worst interval's, or ``"-"`` when
+    unknown."""
+    if share is None or peak is None:
+        return "-"
+    return f"{format_share(share)} (peak {format_share(peak)})"
+
+
 class StealMonitor:
     """The steal share over a block, and its largest over any ``interval_s`` within it, from a
     daemon thread that reads ``/proc/stat`` once per interval (a file read: no measurable load).
@@ -118,10 +126,8 @@ class StealMonitor:
             self.peak = self.share if self._peak is None else max(self._peak, self.share)
 
     def describe(self) -> str:
-        """``"0.4 % (peak 9.3 %)"``, or ``"-"`` when unknown."""
-        if self.share is None or self.peak is None:
-            return "-"
-        return f"{format_share(self.share)} (peak {format_share(self.peak)})"
+        """:func:`describe_steal` of this block."""
+        return describe_steal(self.share, self.peak)
 
     def _sample(self) -> None:
         last = self._first

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from paintapp.bench.host_steal import StealMonitor
+from paintapp.bench.host_steal import StealMonitor, describe_steal
 from paintapp.haptics.channel import ForceChannel, ForceSample
 from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.devices.simulated import SimulatedDevice
@@ -47,8 +47,8 @@ class CheckRun:
         max_force_n: the largest force written to the device, N.
         granted: where the loop ran and what the OS granted it.
         bad_writes: non-finite or over-limit device writes (process form; None: not audited).
-        host_steal: the share of the machine's CPU time the host took during the run, over the
-            run and its largest over any half second ("-": unknown).
+        host_steal, host_steal_peak: the share of the machine's CPU time the host took during
+            the run (0-1), and its largest over any half second of it (None: unknown).
     """
 
     label: str
@@ -58,7 +58,8 @@ class CheckRun:
     max_force_n: float
     granted: str = "thread in this process"
     bad_writes: int | None = None
-    host_steal: str = "-"
+    host_steal: float | None = None
+    host_steal_peak: float | None = None
 
 
 def load_simulation() -> tuple[SimStep, str]:
@@ -159,7 +160,7 @@ def run_once(
     finally:
         loop.close()
     return CheckRun(label, report, where, published, device.max_force_written_n,
-                    host_steal=steal.describe())  # fmt: skip
+                    host_steal=steal.share, host_steal_peak=steal.peak)  # fmt: skip
 
 
 def run_process_once(
@@ -195,9 +196,8 @@ def run_process_once(
     audit = servo.audit()
     bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
     max_force = float(audit.get("max_force_n", 0.0))
-    return CheckRun(
-        label, report, where, published, max_force, servo.granted, bad, steal.describe()
-    )
+    return CheckRun(label, report, where, published, max_force, servo.granted, bad,
+                    steal.share, steal.peak)  # fmt: skip
 
 
 def _wait(seconds: float, progress: Callable[[float], None] | None) -> None:
@@ -235,7 +235,7 @@ def format_table(runs: list[CheckRun]) -> str:
     rows.append(
         ("bad device writes", ["-" if r.bad_writes is None else str(r.bad_writes) for r in runs])
     )
-    rows.append(("host CPU steal", [r.host_steal for r in runs]))
+    rows.append(("host CPU steal", [describe_steal(r.host_steal, r.host_steal_peak) for r in runs]))
     width = max(len(name) for name, _ in rows) + 2
     cols = [max(len(v[i]) for _, v in rows) + 2 for i in range(len(runs))]
     lines = [

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from paintapp.bench.host_steal import (
     CpuTimes,
     StealMonitor,
+    describe_steal,
     format_share,
     parse_cpu_times,
     read_cpu_times,
@@ -59,6 +60,8 @@ def test_the_share_is_the_steal_over_the_time_between_the_readings():
     assert steal_share(before, CpuTimes(total=1200, steal=30)) == pytest.approx(0.1)
     assert steal_share(before, CpuTimes(total=1200, steal=10)) == 0.0
     assert format_share(0.1) == "10.0 %" and format_share(None) == "-"
+    assert describe_steal(0.004, 0.093) == "0.4 % (peak 9.3 %)"
+    assert describe_steal(None, None) == "-" and describe_steal(0.1, None) == "-"
 
 
 @given(
