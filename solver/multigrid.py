@@ -22,16 +22,21 @@ Every array of the hierarchy is preallocated once per grid shape and refilled in
 solve: rebuilding it as probes move costs about two passes over the fine grid.
 
 With ``threads`` > 1, a 3D solve runs its levels of at least :data:`PARALLEL_MIN_CELLS` cells on
-numba's threads (:mod:`solver.parallel_kernels`), with the same values, bit for bit.
+numba's threads (:mod:`solver.parallel_kernels`), with the same values, bit for bit; with
+``adaptive`` as well, each solve runs them on the threads or on one, whichever has cost less per
+iteration lately (:class:`~solver.timed_choice.TimedChoice`).
 """
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 from numba import njit, prange
 
 from solver.parallel_kernels import NEVER, parallel_section, serial_and_parallel
 from solver.pcg import SolveReport, StencilSystem, apply_stencil, apply_stencil_parallel, dot
+from solver.timed_choice import TimedChoice
 from solver.unsigned import U0, U1, U2
 
 PRE_SMOOTH = 2
@@ -494,7 +499,8 @@ class Multigrid:
 
     ``scales`` = (Laplacian part, row-sum part) of the coarse operators: ``PRESSURE_SCALES`` for
     the Poisson matrix, ``DIFFUSION_SCALES`` for an implicit viscosity solve (its identity term
-    is a mass, which aggregation sums exactly)."""
+    is a mass, which aggregation sums exactly). ``threads`` and ``adaptive``: see the module
+    docstring."""
 
     def __init__(
         self,
@@ -502,6 +508,7 @@ class Multigrid:
         dim: int,
         scales: tuple[float, float] = PRESSURE_SCALES,
         threads: int = 1,
+        adaptive: bool = False,
     ) -> None:
         self.shape = tuple(int(c) for c in shape)
         self.dim = dim
@@ -509,6 +516,10 @@ class Multigrid:
             raise ValueError(f"threads must be >= 1, got {threads}")
         #: Threads for the 3D levels of at least ``PARALLEL_MIN_CELLS`` cells (1: all serial).
         self.threads = int(threads)
+        #: Whether each solve picks threads or one by their recent cost (when :attr:`parallel`).
+        self.adaptive = bool(adaptive)
+        #: The choice between one thread (0) and ``threads`` (1), for adaptive solves.
+        self.choice = TimedChoice(2)
         # A grid one cell deep (2D) is seen as (1, nx, ny), so that the kernels' innermost loop
         # runs along a long axis. A 3D grid keeps its own order, with no copies into another:
         # shortest axis first was no faster on flat grids (32x32x4 to 64x64x16: 0.93-1.03x the
@@ -539,6 +550,8 @@ class Multigrid:
         self._b = np.zeros(sizes[0])
         self._x = np.zeros(sizes[0])
         self.scales = np.array(scales, dtype=np.float64)
+        #: Whether the last solve ran on threads.
+        self.last_on_threads = False
 
     @property
     def levels(self) -> int:
@@ -546,9 +559,9 @@ class Multigrid:
 
     @property
     def parallel(self) -> bool:
-        """Whether solves run their largest levels on ``threads`` threads: in 3D, with a finest
-        level of at least ``PARALLEL_MIN_CELLS`` cells (2D levels are one plane: their outer
-        loops have nothing to split)."""
+        """Whether solves run their largest levels on ``threads`` threads (adaptive: may run
+        them there): in 3D, with a finest level of at least ``PARALLEL_MIN_CELLS`` cells (2D
+        levels are one plane: their outer loops have nothing to split)."""
         return (
             self.threads > 1 and self.dim == 3 and int(self.shapes[0].prod()) >= PARALLEL_MIN_CELLS
         )
@@ -592,11 +605,16 @@ class Multigrid:
             np.copyto(self._finest(flat_b), b.transpose(self.perm))
         args = (self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
                 flat_b, flat_x, tol, max_iter, self.work)  # fmt: skip
-        if self.parallel:
+        on_threads = self.parallel and (not self.adaptive or self.choice.pick() == 1)
+        start = time.perf_counter()
+        if on_threads:
             with parallel_section(self.threads):
                 it, res = mgpcg_flat(*args, PARALLEL_MIN_CELLS)
         else:
             it, res = mgpcg_flat(*args)
+        if self.parallel and self.adaptive:
+            self.choice.record(int(on_threads), (time.perf_counter() - start) / max(int(it), 1))
+        self.last_on_threads = on_threads
         if not np.shares_memory(flat_x, x):
             x[...] = self._finest(flat_x).transpose(self.unperm)
         return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))

@@ -163,7 +163,14 @@ def _threads(sim: Simulation) -> Decision:
         f"{threads} threads at once" if threads > 1 else "one thread, one after the other"
     )
     if sim.pressure_on_threads():
-        chosen += f"; the pressure solve's levels of {PARALLEL_MIN_CELLS}+ cells on {threads}"
+        levels = f"the pressure solve's levels of {PARALLEL_MIN_CELLS}+ cells"
+        if sim.pressure_threads_adaptive():
+            chosen += (
+                f"; {levels} on {sim.pressure_threads()} threads or one, whichever has cost less "
+                "per iteration lately (measured as it runs)"
+            )
+        else:
+            chosen += f"; {levels} on {sim.pressure_threads()}"
     if sim.settings.threads:
         reason = f"the scene sets threads = {sim.settings.threads}"
     elif samples < AUTO_MIN_SAMPLES[g.dim]:

@@ -16,7 +16,7 @@ import numpy as np
 from solver import drag_models
 from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import DomainBoundary
-from solver.component_threads import run_components, thread_count
+from solver.component_threads import AUTO_THREADS, run_components, thread_count, usable_cores
 from solver.cut_forces import cut_surface_force
 from solver.cut_geometry import UNIT, CutGeometry
 from solver.cut_projection import (
@@ -144,10 +144,12 @@ class Simulation:
                 f"got {self.settings.corner_radius_cells}"
             )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
+        # auto: on threads or one, whichever has cost less lately (solver.timed_choice): its
+        # many short parallel loops each wait for both threads, and with the other core busy
+        # the solve took twice as long as on one thread
+        mg_threads = self.settings.threads or min(AUTO_THREADS, usable_cores())
         self._pressure_mg = (
-            # only when asked for: its many short parallel loops each wait for both threads, and
-            # with the other core busy the solve took twice as long as on one thread
-            Multigrid(grid.cells, grid.dim, threads=self.settings.threads or 1)
+            Multigrid(grid.cells, grid.dim, threads=mg_threads, adaptive=self.settings.threads == 0)
             if self.settings.preconditioner == "multigrid"
             else None
         )
@@ -326,9 +328,17 @@ class Simulation:
         return tuple(r for r in reports[: g.dim] if r is not None)
 
     def pressure_on_threads(self) -> bool:
-        """Whether the pressure solve runs its large levels on :meth:`component_threads` threads
-        (:attr:`solver.multigrid.Multigrid.parallel`)."""
+        """Whether the pressure solve runs its large levels on threads, or (auto) may, by
+        measurement (:attr:`solver.multigrid.Multigrid.parallel`)."""
         return self._pressure_mg is not None and self._pressure_mg.parallel
+
+    def pressure_threads(self) -> int:
+        """The threads the pressure solve's large levels run on when on threads (1: none)."""
+        return self._pressure_mg.threads if self.pressure_on_threads() else 1  # type: ignore[union-attr]
+
+    def pressure_threads_adaptive(self) -> bool:
+        """Whether each pressure solve picks threads or one by their recent cost (auto)."""
+        return self.pressure_on_threads() and self._pressure_mg.adaptive  # type: ignore[union-attr]
 
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on

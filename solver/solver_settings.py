@@ -51,7 +51,9 @@ class SolverSettings:
 
     ``threads``: the velocity components' advection and viscosity solves on this many threads
     at once (the same values); 1 one after the other; 0 (the default) two where the cores and
-    the grid's size make it pay (:mod:`solver.component_threads`)."""
+    the grid's size make it pay (:mod:`solver.component_threads`). A 3D pressure solve of
+    32768+ cells runs its large levels on as many (N >= 2), or under 0 on two or one, whichever
+    has cost less lately (:mod:`solver.timed_choice`); the same values either way."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6

@@ -137,8 +137,14 @@ def test_the_plan_says_how_many_threads_and_why():
     assert large.pressure_on_threads()
     d = {x.topic: x for x in explain(large, 0.02)}["threads"]
     assert "the pressure solve's levels of 32768+ cells on 2" in d.chosen
+    assert not large.pressure_threads_adaptive()  # set threads: always on them
     auto = Simulation(grid, Fluid(1.0, 0.01), settings=SolverSettings(threads=0))
-    assert not auto.pressure_on_threads()  # only when the scene asks for threads
+    two_cores = usable_cores() >= 2
+    assert auto.pressure_on_threads() == two_cores  # auto: may, as measured
+    assert auto.pressure_threads_adaptive() == two_cores
+    if two_cores:
+        d = {x.topic: x for x in explain(auto, 0.02)}["threads"]
+        assert "on 2 threads or one, whichever has cost less" in d.chosen
     flat = Simulation(Grid.from_size((1.0,) * 2, (256,) * 2), Fluid(1.0, 0.01),
                       settings=SolverSettings(threads=2))  # fmt: skip
     assert not flat.pressure_on_threads()  # 2D levels are one plane

@@ -234,6 +234,26 @@ def test_a_large_3d_solve_takes_the_parallel_path_and_keeps_the_bits():
     assert np.abs(x2.reshape(-1)[idx] - exact).max() <= 1e-6 * np.abs(exact).max()
 
 
+def test_an_adaptive_solve_tries_both_ways_and_keeps_the_serial_bits():
+    """Auto's pressure solve (every level parallel here): it runs on threads or on one as its
+    timings say, and every solve gives what a one-thread solve gives."""
+    s = random_system((9, 10, 11), 3, seed=7)
+    rng = np.random.default_rng(7)
+    adaptive = Multigrid(s.diag.shape, 3, threads=2, adaptive=True)
+    serial = Multigrid(s.diag.shape, 3)
+    ways = []
+    with mock.patch.object(multigrid, "PARALLEL_MIN_CELLS", 1):
+        assert adaptive.parallel and adaptive.adaptive
+        for _ in range(6):
+            b = np.where(s.active, rng.standard_normal(s.diag.shape), 0.0)
+            x1, x2 = np.zeros_like(b), np.zeros_like(b)
+            r1, r2 = serial.solve(s, b, x1, 1e-9, 200), adaptive.solve(s, b, x2, 1e-9, 200)
+            assert r1 == r2 and np.array_equal(x1, x2)
+            ways.append(adaptive.last_on_threads)
+    assert ways[:2] == [False, True]  # each way tried first
+    assert adaptive.choice.cost(0) is not None and adaptive.choice.cost(1) is not None
+
+
 def test_a_multigrid_refuses_no_threads():
     with pytest.raises(ValueError, match="threads"):
         Multigrid((8, 8, 8), 3, threads=0)
