@@ -54,27 +54,30 @@ def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
 
 
 @njit(cache=True, nogil=True)
-def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active):
+def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active,
+                              lo, hi):  # fmt: skip
     """Assemble the face-weighted Poisson matrix (the one place it is built; a preconditioner
-    may be built on ``diag``/``off*``/``active``).
+    may be built on ``diag``/``off*``/``active``), in the cells ``lo <= (i, j, k) < hi`` (clipped
+    to the grid; the rest of the outputs is left as it is).
 
     Args:
         static: cell labels without the probes (``FLUID`` or ``STATIC_SOLID``).
         kinds: domain side kinds (3, 2).
         wx, wy, wz: open face fractions of the probes.
         diag, offx, offy, offz, active: outputs, cells' shape.
+        lo, hi: (3,) int64, the box of cells to assemble.
     """
     nx, ny, nz = static.shape
     shape = (nx, ny, nz)
     ws = (wx, wy, wz)
     three = dim == 3
-    for i in range(nx):
+    for i in range(max(lo[0], 0), min(hi[0], nx)):
         ui = np.uint64(i)
         inner_i = 0 < i < nx - 1
-        for j in range(ny):
+        for j in range(max(lo[1], 0), min(hi[1], ny)):
             uj = np.uint64(j)
             inner_ij = inner_i and 0 < j < ny - 1
-            for k in range(nz):
+            for k in range(max(lo[2], 0), min(hi[2], nz)):
                 uk = np.uint64(k)
                 if (  # a fluid cell among fluid cells: the same sums on a short unsigned path
                     inner_ij
@@ -308,14 +311,19 @@ def pressure_system(
     kinds: np.ndarray,
     open_frac: list[np.ndarray],
     out: StencilSystem | None = None,
+    boxes: list[tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> StencilSystem:
     """The face-weighted Poisson matrix on the grid of ``static``, in ``out`` when given (of
-    ``static``'s shape; every entry is rewritten)."""
+    ``static``'s shape; every entry is rewritten, or with ``boxes`` (cell boxes ``lo <= idx <
+    hi``) only the entries in them: the rest must already hold this matrix)."""
     system = out if out is not None else StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
     wx, wy, wz = open_frac
     ox, oy, oz = system.off
-    build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
-                              system.active)  # fmt: skip
+    if boxes is None or out is None:
+        boxes = [(np.zeros(3, dtype=np.int64), np.array(static.shape, dtype=np.int64))]
+    for lo, hi in boxes:
+        build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
+                                  system.active, lo, hi)  # fmt: skip
     return system
 
 

@@ -83,7 +83,8 @@ def test_cut_pressure_matrix_and_correction_without_probes_are_the_staircases(di
         for cut in (True, False):
             arrays = (*(np.full(cells, 7.0) for _ in range(4)), np.zeros(cells, dtype=bool))
             if cut:
-                build_cut_pressure_system(label, dim, kinds, *opened, *arrays)
+                whole = (np.zeros(3, dtype=np.int64), np.array(cells, dtype=np.int64))
+                build_cut_pressure_system(label, dim, kinds, *opened, *arrays, *whole)
             else:
                 build_pressure_system(label, dim, kinds, *arrays)
             systems.append(arrays)
