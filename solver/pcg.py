@@ -310,8 +310,8 @@ def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
 
 class JacobiPCG:
     """:func:`jacobi_pcg_flat` for systems of one grid shape, its scratch kept from solve to
-    solve: four fresh arrays a solve cost more than the solve's five iterations on a 64³ grid
-    (10 against 4 ms: each array's first touch faults in its pages)."""
+    solve: on a 64³ grid, alone, a five-iteration solve took 9.8 ms with four fresh arrays and
+    5.0 with kept ones (each fresh array's first touch faults in its pages)."""
 
     def __init__(self, shape: tuple[int, int, int]) -> None:
         self.shape = tuple(int(c) for c in shape)

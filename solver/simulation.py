@@ -293,12 +293,9 @@ class Simulation:
             self._pressure_work = StencilSystem.empty(g.cells, g.dim)
         system = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac,
                                  self._pressure_work, boxes)  # fmt: skip
-        if kept is None:
-            kept = (self._static_label.copy(), self._kinds.copy(), windows)
-        else:
-            np.copyto(kept[0], self._static_label)
-            kept = (kept[0], self._kinds.copy(), windows)
-        self._pressure_built = kept
+        # reassembled in boxes, the kept labels already are this step's
+        static = kept[0] if boxes is not None and kept is not None else self._static_label.copy()
+        self._pressure_built = (static, self._kinds.copy(), windows)
         return system
 
     def _old_pressure_gradient(self, active: np.ndarray, dt_s: float) -> None:
