@@ -239,10 +239,10 @@ class CutGeometry:
 
     phi_node: np.ndarray
     owner_node: np.ndarray
-    phi_face: list[np.ndarray]
-    open_frac: list[np.ndarray]
-    owner_face: list[np.ndarray]
-    owner_sample: list[np.ndarray]
+    phi_face: tuple[np.ndarray, ...]
+    open_frac: tuple[np.ndarray, ...]
+    owner_face: tuple[np.ndarray, ...]
+    owner_sample: tuple[np.ndarray, ...]
     fluid_frac: np.ndarray
     phi_cell: np.ndarray
     owner_cell: np.ndarray
@@ -256,10 +256,10 @@ class CutGeometry:
         return cls(
             phi_node=np.full(nodes, FAR),
             owner_node=np.full(nodes, -1, dtype=np.int32),
-            phi_face=[np.full(s, FAR) for s in shapes],
-            open_frac=[np.ones(s) for s in shapes],
-            owner_face=[np.full(s, -1, dtype=np.int32) for s in shapes],
-            owner_sample=[np.full(s, -1, dtype=np.int32) for s in shapes],
+            phi_face=tuple(np.full(s, FAR) for s in shapes),
+            open_frac=tuple(np.ones(s) for s in shapes),
+            owner_face=tuple(np.full(s, -1, dtype=np.int32) for s in shapes),
+            owner_sample=tuple(np.full(s, -1, dtype=np.int32) for s in shapes),
             fluid_frac=np.ones(grid.cells),
             phi_cell=np.full(grid.cells, FAR),
             owner_cell=np.full(grid.cells, -1, dtype=np.int32),
@@ -268,9 +268,8 @@ class CutGeometry:
     def _reset(self, dim: int) -> None:
         for lo, hi in self.windows:
             reset_window(lo, hi, dim, self.phi_node, self.owner_node, self.fluid_frac,
-                         self.phi_cell, self.owner_cell, tuple(self.phi_face),
-                         tuple(self.open_frac), tuple(self.owner_face),
-                         tuple(self.owner_sample))  # fmt: skip
+                         self.phi_cell, self.owner_cell, self.phi_face, self.open_frac,
+                         self.owner_face, self.owner_sample)  # fmt: skip
         self.windows = []
 
     def update(self, grid: Grid, probes: list[Probe], corner_radius_m: float = 0.0) -> None:
@@ -280,7 +279,7 @@ class CutGeometry:
         d = grid.dim
         for n, probe in enumerate(probes):
             lo, hi = probe_window(grid, probe)
-            if np.any(hi <= lo):
+            if (hi <= lo).any():
                 continue
             self.windows.append((lo, hi))
             shape = with_rounded_corners(probe.shape, corner_radius_m)
@@ -311,24 +310,28 @@ def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray,
 
 
 def _lattice_sdf(
-    probe: Probe, shape: Shape, axes: list[np.ndarray], targets: list
+    probe: Probe,
+    shape: Shape,
+    lattice: tuple[np.ndarray, np.ndarray, float],
+    counts: list[int],
 ) -> list[np.ndarray]:
-    """The probe's SDF on each target sub-lattice of the half-cell lattice ``axes``, shaped like
-    the window of its array. 2D: every sub-lattice exactly, in one call of the SDF. 3D: at the
-    nodes only (a brush tip's SDF is by far the most expensive part of the cut geometry); a face
-    centre takes the mean of its face's four corners and a cell centre that of its eight, the
-    same corners the open fractions come from (exact for a linear SDF)."""
-    d = len(axes)
+    """The probe's SDF on the half-cell lattice ``lattice`` (the grid's origin, the window's
+    first cell and the cell size; ``counts`` points along each axis). 2D: ``[sdf]`` at every
+    point of the lattice exactly, in one call of the SDF (its sub-lattices tile it). 3D: ``[node,
+    face x, face y, face z, cell]``, each shaped like the window of its array, from the SDF at
+    the nodes only (a brush tip's SDF is by far the most expensive part of the cut geometry); a
+    face centre takes the mean of its face's four corners and a cell centre that of its eight,
+    the same corners the open fractions come from (exact for a linear SDF)."""
+    d = len(counts)
     rot = probe.rotation_matrix()
     centre = np.asarray(probe.centre_m, dtype=float)
-    if d == 2:  # the sub-lattices tile the lattice: one call over all of it, then each's share
-        rel = np.empty((axes[0].size, axes[1].size, 2))
-        offsets_2d(axes[0], axes[1], centre, rel)
-        sdf = np.asarray(shape.sdf(rel @ rot), dtype=float)
-        return [sdf[sel[0], sel[1], None] for sel, _, _ in targets]
-    nodes = [np.ascontiguousarray(ax[0::2]) for ax in axes]
-    rel = np.empty((nodes[0].size, nodes[1].size, nodes[2].size, 3))
-    offsets_3d(nodes[0], nodes[1], nodes[2], centre, rel)
+    origin, lo, h = lattice
+    if d == 2:
+        rel = np.empty((counts[0], counts[1], 2))
+        lattice_offsets_2d(origin, lo, h, 1, centre, rel)
+        return [np.asarray(shape.sdf(rel @ rot), dtype=float)]
+    rel = np.empty((*((n + 1) // 2 for n in counts), 3))
+    lattice_offsets_3d(origin, lo, h, 2, centre, rel)
     node = np.ascontiguousarray(shape.sdf(rel @ rot), dtype=float)
     nx, ny, nz = node.shape
     faces = [np.empty((nx, ny - 1, nz - 1)), np.empty((nx - 1, ny, nz - 1)),
@@ -338,25 +341,36 @@ def _lattice_sdf(
     return [node, *faces, cell]
 
 
-@njit(cache=True, nogil=True)
-def offsets_2d(ax, ay, centre, out):
-    """``out[i, j] = (ax[i], ay[j]) - centre``: the lattice's points relative to a probe, as
-    numpy's grid of the axes less the centre would give them (one pass, no temporaries)."""
-    for i in range(ax.size):
-        for j in range(ay.size):
-            out[i, j, 0] = ax[i] - centre[0]
-            out[i, j, 1] = ay[j] - centre[1]
+@njit(cache=True, nogil=True, inline="always")
+def _lattice_point(origin, lo, h, step, a, m):
+    """Coordinate ``a`` of point ``m`` (every ``step``-th) of the half-cell lattice from cell
+    ``lo``: ``origin[a] + (lo[a] + m step / 2) h``."""
+    return origin[a] + (lo[a] + 0.5 * (step * m)) * h
 
 
 @njit(cache=True, nogil=True)
-def offsets_3d(ax, ay, az, centre, out):
-    """:func:`offsets_2d` in 3D."""
-    for i in range(ax.size):
-        for j in range(ay.size):
-            for k in range(az.size):
-                out[i, j, k, 0] = ax[i] - centre[0]
-                out[i, j, k, 1] = ay[j] - centre[1]
-                out[i, j, k, 2] = az[k] - centre[2]
+def lattice_offsets_2d(origin, lo, h, step, centre, out):
+    """``out[i, j]`` = point (i, j) of every ``step``-th point of the half-cell lattice from cell
+    ``lo`` less ``centre``: the probe-relative points, as numpy's grid of the lattice's axes less
+    the centre would give them (one pass, no temporaries)."""
+    for i in range(out.shape[0]):
+        x = _lattice_point(origin, lo, h, step, 0, i)
+        for j in range(out.shape[1]):
+            out[i, j, 0] = x - centre[0]
+            out[i, j, 1] = _lattice_point(origin, lo, h, step, 1, j) - centre[1]
+
+
+@njit(cache=True, nogil=True)
+def lattice_offsets_3d(origin, lo, h, step, centre, out):
+    """:func:`lattice_offsets_2d` in 3D."""
+    for i in range(out.shape[0]):
+        x = _lattice_point(origin, lo, h, step, 0, i)
+        for j in range(out.shape[1]):
+            y = _lattice_point(origin, lo, h, step, 1, j)
+            for k in range(out.shape[2]):
+                out[i, j, k, 0] = x - centre[0]
+                out[i, j, k, 1] = y - centre[1]
+                out[i, j, k, 2] = _lattice_point(origin, lo, h, step, 2, k) - centre[2]
 
 
 @njit(cache=True, nogil=True)
@@ -403,19 +417,53 @@ def _sample_sdf(
     """Take the min of the stored SDFs and probe ``index``'s (its ``shape``, in its pose) over
     the window ``lo..hi`` (cells) at the nodes, the face centres and the cell centres (see
     :func:`_lattice_sdf`)."""
-    h = grid.cell_size_m
     d = grid.dim
-    axes = [grid.origin_m[a] + (lo[a] + 0.5 * np.arange(2 * (hi[a] - lo[a]) + 1)) * h
-            for a in range(d)]  # fmt: skip
-    even, odd, layer = slice(0, None, 2), slice(1, None, 2), slice(None)
-    targets = [(tuple(even if b < d else layer for b in range(3)), geo.phi_node, geo.owner_node)]
-    targets += [(tuple((even if b == a else odd) if b < d else layer for b in range(3)),
-                 geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]  # fmt: skip
-    targets += [(tuple(odd if b < d else layer for b in range(3)), geo.phi_cell, geo.owner_cell)]
-    values_of = _lattice_sdf(probe, shape, axes, targets)
-    for (_, phi, owner), values in zip(targets, values_of, strict=True):
+    counts = [2 * int(hi[a] - lo[a]) + 1 for a in range(d)]
+    lattice = (np.asarray(grid.origin_m, dtype=float), lo, grid.cell_size_m)
+    if d == 2:  # every sub-lattice in one pass
+        (sdf,) = _lattice_sdf(probe, shape, lattice, counts)
+        take_closer_2d(sdf, lo, index, geo.phi_node, geo.owner_node, geo.phi_face[0],
+                       geo.owner_sample[0], geo.phi_face[1], geo.owner_sample[1], geo.phi_cell,
+                       geo.owner_cell)  # fmt: skip
+        return
+    targets = [(geo.phi_node, geo.owner_node)]
+    targets += [(geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]
+    targets += [(geo.phi_cell, geo.owner_cell)]
+    values_of = _lattice_sdf(probe, shape, lattice, counts)
+    for (phi, owner), values in zip(targets, values_of, strict=True):
         # a cell belongs to the probe its centre lies inside
         _take_closer(values, phi, owner, lo, index, owner is geo.owner_cell)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _closer(phi, owner, i, j, value, index, inside_only):
+    """One sample of :func:`_take_closer` (2D: ``k`` = 0)."""
+    if value < phi[i, j, 0]:
+        phi[i, j, 0] = value
+        if not inside_only or value <= 0.0:
+            owner[i, j, 0] = index
+
+
+@njit(cache=True, nogil=True)
+def take_closer_2d(sdf, lo, index, phi_node, owner_node, phi_fx, owner_fx, phi_fy, owner_fy,
+                   phi_cell, owner_cell):  # fmt: skip
+    """:func:`_take_closer` for each sub-lattice of a 2D half-cell lattice's SDF ``sdf`` (from
+    cell ``lo``) in one pass: the nodes (even, even), the x faces (even, odd), the y faces (odd,
+    even) and the cell centres (odd, odd; owned only where inside)."""
+    for i in range(sdf.shape[0]):
+        gi = lo[0] + i // 2
+        for j in range(sdf.shape[1]):
+            gj = lo[1] + j // 2
+            value = sdf[i, j]
+            if i % 2 == 0:
+                if j % 2 == 0:
+                    _closer(phi_node, owner_node, gi, gj, value, index, False)
+                else:
+                    _closer(phi_fx, owner_fx, gi, gj, value, index, False)
+            elif j % 2 == 0:
+                _closer(phi_fy, owner_fy, gi, gj, value, index, False)
+            else:
+                _closer(phi_cell, owner_cell, gi, gj, value, index, True)
 
 
 @njit(cache=True, nogil=True)

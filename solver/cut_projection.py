@@ -15,6 +15,8 @@ its neighbours (:func:`fill_fresh_pressure`), so the incremental scheme sees no 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numba import njit
 
@@ -309,13 +311,14 @@ def pressure_system(
     static: np.ndarray,
     dim: int,
     kinds: np.ndarray,
-    open_frac: list[np.ndarray],
+    open_frac: Sequence[np.ndarray],
     out: StencilSystem | None = None,
     boxes: list[tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> StencilSystem:
     """The face-weighted Poisson matrix on the grid of ``static``, in ``out`` when given (of
     ``static``'s shape; every entry is rewritten, or with ``boxes`` (cell boxes ``lo <= idx <
-    hi``) only the entries in them: the rest must already hold this matrix)."""
+    hi``, clipped to the grid) only the entries in them: the rest must already hold this
+    matrix)."""
     system = out if out is not None else StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
     wx, wy, wz = open_frac
     ox, oy, oz = system.off
@@ -331,8 +334,8 @@ def project_cut(
     comps: list[np.ndarray],
     system: StencilSystem,
     static: np.ndarray,
-    open_frac: list[np.ndarray],
-    owner_face: list[np.ndarray],
+    open_frac: Sequence[np.ndarray],
+    owner_face: Sequence[np.ndarray],
     rigid: np.ndarray,
     h: float,
     kinds: np.ndarray,
@@ -352,7 +355,7 @@ def project_cut(
     cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux)
     rhs = flux
     rhs *= -h
-    if not np.any(kinds[:dim] == OUTFLOW):
+    if not (kinds[:dim] == OUTFLOW).any():
         remove_mean(rhs.reshape(-1), system.active.reshape(-1))
     phi[~system.active] = 0.0
     report = linear_solve(system, rhs, phi, tol, max_iter)

@@ -189,6 +189,10 @@ class Probe:
             r = self.shape.bounding_radius_m
             return self.centre_m - r, self.centre_m + r
         rot = self.rotation_matrix()
+        half_extents = getattr(self.shape, "half_extents", None)
+        if half_extents is not None:  # a centrally symmetric shape: the box is centred
+            reach = np.array(half_extents(rot))
+            return self.centre_m - reach, self.centre_m + reach
         upper = np.array([float(support(rot[a])) for a in range(self.dim)])
         lower = np.array([-float(support(-rot[a])) for a in range(self.dim)])
         return self.centre_m + lower, self.centre_m + upper

@@ -4,7 +4,9 @@ Any object with ``sdf(points) -> distances`` (points shape (..., d) in metres, b
 negative inside) and a ``bounding_radius_m`` attribute can be a probe shape; the brushes layer
 provides its own tips through the same protocol. A shape may also give ``support(direction)``,
 ``max over the shape of direction . x`` (body frame): the cut geometry then samples only the
-probe's tight world box, not its bounding sphere's.
+probe's tight world box, not its bounding sphere's. A centrally symmetric shape may also give
+``half_extents(rot)``, that box's half extents turned by ``rot`` (``support`` of each row) in
+one call.
 """
 
 from __future__ import annotations
@@ -124,6 +126,12 @@ class Box:
         """``max over the box of direction . x``."""
         return 0.5 * float(np.abs(np.asarray(direction, dtype=float)) @ np.asarray(self.size_m))
 
+    def half_extents(self, rot: np.ndarray) -> list[float]:
+        """Half the world extents of the box turned by ``rot``: :meth:`support` of each row
+        (the same values, in one call)."""
+        size, rows = np.asarray(self.size_m, dtype=float), np.abs(rot)
+        return [0.5 * float(rows[a] @ size) for a in range(rows.shape[0])]
+
     def cross_section_m(self, dim: int) -> float:
         """Frontal extent across x (2D: height) or frontal area across x (3D)."""
         return float(self.size_m[1]) if dim == 2 else float(self.size_m[1] * self.size_m[2])
@@ -149,6 +157,11 @@ class FilletedBox:
         """``max over the shape of direction . x``."""
         d = np.asarray(direction, dtype=float)
         return self._core().support(d) + self.radius_m * float(np.linalg.norm(d))
+
+    def half_extents(self, rot: np.ndarray) -> list[float]:
+        """As :meth:`Box.half_extents`."""
+        core = self._core().half_extents(rot)
+        return [c + self.radius_m * float(np.linalg.norm(rot[a])) for a, c in enumerate(core)]
 
     def _core(self) -> Box:
         return Box(tuple(float(s) - 2.0 * self.radius_m for s in self.size_m))

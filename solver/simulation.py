@@ -276,7 +276,7 @@ class Simulation:
         ms for the whole grid); otherwise all of it. The same values either way."""
         g, cut = self.grid, self.cut
         assert cut is not None
-        windows = [(lo.copy(), hi.copy()) for lo, hi in cut.windows]
+        windows = list(cut.windows)  # each update makes new window arrays
         kept = self._pressure_built
         boxes = None
         if (
@@ -285,10 +285,7 @@ class Simulation:
             and np.array_equal(kept[0], self._static_label)
             and np.array_equal(kept[1], self._kinds)
         ):
-            cells = np.array(g.cells, dtype=np.int64)
-            boxes = [
-                (np.maximum(lo - 1, 0), np.minimum(hi + 1, cells)) for lo, hi in kept[2] + windows
-            ]
+            boxes = [(lo - 1, hi + 1) for lo, hi in kept[2] + windows]  # clipped by the assembly
         if self._pressure_work is None:
             self._pressure_work = StencilSystem.empty(g.cells, g.dim)
         system = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac,
@@ -536,8 +533,11 @@ class Simulation:
         fp[:], fv[:], tq[:] = 0.0, 0.0, 0.0
         if cut is None or not cut.windows:
             return
-        lo = np.min([w[0] for w in cut.windows], axis=0)
-        hi = np.max([w[1] for w in cut.windows], axis=0)
+        if len(cut.windows) == 1:
+            lo, hi = cut.windows[0]
+        else:
+            lo = np.min([w[0] for w in cut.windows], axis=0)
+            hi = np.max([w[1] for w in cut.windows], axis=0)
         active = self._was_active if self.settings.incremental_pressure else None
         if active is None or active.shape != g.cells:
             active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active

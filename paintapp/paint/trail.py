@@ -24,6 +24,8 @@ Paint stays conserved to round-off and non-negative.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from paintapp.paint.exchange import CellSpace, place_pushed
@@ -39,7 +41,7 @@ def paint_faces(
     comps: list[np.ndarray],
     face_types: list[np.ndarray],
     label: np.ndarray,
-    open_frac: list[np.ndarray] | None,
+    open_frac: Sequence[np.ndarray] | None,
     fluid_frac: np.ndarray | None = None,
 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Velocities and face types for the paint transport: each interior face between two cells

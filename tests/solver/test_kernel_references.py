@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.boundary import OUTFLOW, WALL
-from solver.cut_geometry import offsets_2d, offsets_3d
+from solver.cut_geometry import lattice_offsets_2d, lattice_offsets_3d
 from solver.cut_projection import fill_fresh_pressure, subtract_cut_gradient
 from solver.pcg import apply_stencil
 from solver.viscosity import face_viscosity
@@ -148,12 +148,18 @@ def test_the_stencil_product_is_the_reference(dim, nx, ny, nz, seed):
 
 
 @settings(max_examples=30, deadline=None)
-@given(dim=st.sampled_from([2, 3]), seed=st.integers(0, 2**31))
-def test_lattice_offsets_are_numpy_s_grid_less_the_centre(dim, seed):
+@given(dim=st.sampled_from([2, 3]), step=st.sampled_from([1, 2]), seed=st.integers(0, 2**31))
+def test_lattice_offsets_are_numpy_s_grid_less_the_centre(dim, step, seed):
     rng = np.random.default_rng(seed)
-    axes = [rng.uniform(-1, 1) + 0.01 * np.arange(rng.integers(1, 12)) for _ in range(dim)]
+    origin = rng.uniform(-1, 1, 3)
+    lo = rng.integers(0, 40, 3)
+    h = rng.uniform(1e-4, 0.1)
+    counts = rng.integers(1, 12, dim)
+    # the half-cell lattice's axes as numpy builds them, every ``step``-th point
+    axes = [(origin[a] + (lo[a] + 0.5 * np.arange(step * counts[a])) * h)[::step]
+            for a in range(dim)]  # fmt: skip
     centre = rng.uniform(-1, 1, dim)
     want = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1) - centre
     got = np.empty(want.shape)
-    (offsets_2d if dim == 2 else offsets_3d)(*axes, centre, got)
+    (lattice_offsets_2d if dim == 2 else lattice_offsets_3d)(origin, lo, h, step, centre, got)
     np.testing.assert_array_equal(got, want)
