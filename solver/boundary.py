@@ -1,7 +1,7 @@
 """Domain sides: no-slip walls (optionally moving), free-slip walls, inflow and outflow.
 
 Sides are indexed ``(axis, end)`` with ``end`` 0 for the low side (x_min, ...) and 1 for the high
-side. The normal velocity faces on each side are set here (numpy slices, once per step); the
+side. The normal velocity faces on each side are set here (once per step); the
 tangential conditions enter the viscosity solve and the pressure solve through ``kinds``.
 """
 
@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from solver.grid import Grid
 
@@ -68,24 +69,24 @@ class DomainBoundary:
     def has_outflow(self) -> bool:
         return bool(np.any(self.kinds()[: self.grid.dim] == OUTFLOW))
 
-    def apply_normal(self, comps: list[np.ndarray]) -> None:
-        """Set the normal velocity on every domain side (in place)."""
-        g = self.grid
-        for a in range(g.dim):
+    def apply_normal(
+        self,
+        comps: list[np.ndarray],
+        kinds: np.ndarray | None = None,
+        velocities: np.ndarray | None = None,
+    ) -> None:
+        """Set the normal velocity on every domain side (in place); ``kinds`` and
+        ``velocities``, when given, are what :meth:`kinds` and :meth:`velocities` return."""
+        kinds = self.kinds() if kinds is None else kinds
+        velocities = self.velocities() if velocities is None else velocities
+        for a in range(self.grid.dim):
             q = comps[a]
+            set_normal_faces(q, a, kinds, velocities)
             for e in range(2):
-                side = self.side(a, e)
-                face: list[slice | int] = [slice(None)] * 3
-                face[a] = 0 if e == 0 else q.shape[a] - 1
-                inner = list(face)
-                inner[a] = 1 if e == 0 else q.shape[a] - 2
-                if side.kind == "outflow":
-                    q[tuple(face)] = q[tuple(inner)]
-                elif side.kind == "inflow":
+                if kinds[a, e] == INFLOW:
+                    face: list[slice | int] = [slice(None)] * 3
+                    face[a] = 0 if e == 0 else q.shape[a] - 1
                     q[tuple(face)] = self._inflow_profile(a, e)
-                else:
-                    vel = side.velocity
-                    q[tuple(face)] = vel[a] if len(vel) > a else 0.0
 
     def _inflow_profile(self, axis: int, end: int) -> np.ndarray:
         """Normal inflow velocity on the faces of side (axis, end), shape of that face slice."""
@@ -105,3 +106,32 @@ class DomainBoundary:
                 s = pos[..., b] - g.origin_m[b]
                 shape = shape * 4.0 * s * (length - s) / length**2
         return peak * shape
+
+
+@njit(cache=True, nogil=True)
+def set_normal_faces(q, axis, kinds, velocities):
+    """The faces of component ``axis`` on its two sides (in place): a wall's normal velocity
+    (``velocities[axis, end, axis]``: zero, or a moving wall's), an outflow side's neighbour
+    value (zero normal gradient); inflow sides are left alone."""
+    nx, ny, nz = q.shape
+    n = q.shape[axis]
+    for e in range(2):
+        kind = kinds[axis, e]
+        if kind == INFLOW:
+            continue
+        f = 0 if e == 0 else n - 1
+        g = 1 if e == 0 else n - 2
+        copy = kind == OUTFLOW
+        value = velocities[axis, e, axis]
+        if axis == 0:
+            for j in range(ny):
+                for k in range(nz):
+                    q[f, j, k] = q[g, j, k] if copy else value
+        elif axis == 1:
+            for i in range(nx):
+                for k in range(nz):
+                    q[i, f, k] = q[i, g, k] if copy else value
+        else:
+            for i in range(nx):
+                for j in range(ny):
+                    q[i, j, f] = q[i, j, g] if copy else value

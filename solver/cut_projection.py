@@ -290,6 +290,20 @@ def fill_fresh_pressure(p, was_active, active, dim):
 
 
 @njit(cache=True, nogil=True)
+def pressure_rhs(flux, active, h, closed, phi):
+    """In place, flat arrays: the flux through each cell's faces times ``-h`` (the Poisson
+    right-hand side), less its mean over ``active`` where the domain is ``closed``
+    (:func:`remove_mean`); ``phi`` (the warm start, or empty) is zeroed off ``active``."""
+    for idx in range(flux.size):
+        flux[idx] *= -h
+    if closed:
+        remove_mean(flux, active)
+    for idx in range(phi.size):
+        if not active[idx]:
+            phi[idx] = 0.0
+
+
+@njit(cache=True, nogil=True)
 def remove_mean(rhs, active):
     """Subtract the mean over ``active`` entries from those entries, flat arrays (a closed
     domain's Poisson problem is solvable only for a right-hand side of zero sum)."""
@@ -353,12 +367,13 @@ def project_cut(
     wx, wy, wz = open_frac
     ox, oy, oz = owner_face
     cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux)
-    rhs = flux
-    rhs *= -h
-    if not (kinds[:dim] == OUTFLOW).any():
-        remove_mean(rhs.reshape(-1), system.active.reshape(-1))
-    phi[~system.active] = 0.0
-    report = linear_solve(system, rhs, phi, tol, max_iter)
+    closed = not (kinds[:dim] == OUTFLOW).any()
+    if phi.flags.c_contiguous:
+        pressure_rhs(flux.reshape(-1), system.active.reshape(-1), h, closed, phi.reshape(-1))
+    else:
+        pressure_rhs(flux.reshape(-1), system.active.reshape(-1), h, closed, np.empty(0))
+        phi[~system.active] = 0.0
+    report = linear_solve(system, flux, phi, tol, max_iter)
     for a in range(dim):
         subtract_cut_gradient(comps[a], static, kinds, open_frac[a], a, system.active, phi, h)
     return report

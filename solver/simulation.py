@@ -429,8 +429,8 @@ class Simulation:
 
     # -- geometry and boundaries -------------------------------------------------------------
     def _rasterize(self) -> None:
-        self._motion = self.rigid_motion()
-        self._rigid = np.stack(self._motion[:3])  # (3, n, 3): centre, velocity, angular velocity
+        self._rigid, ref = self._rigid_and_reference()
+        self._motion = (self._rigid[0], self._rigid[1], self._rigid[2], ref)
         label = self.state.label
         if self.cut is not None:  # the cut geometry samples the cell centres too
             radius = self.settings.corner_radius_cells * self.grid.cell_size_m
@@ -446,8 +446,15 @@ class Simulation:
     def rigid_motion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per-probe centre, velocity, angular velocity and torque reference, each (n, 3),
         positions relative to the grid origin."""
+        rigid, ref = self._rigid_and_reference()
+        return rigid[0], rigid[1], rigid[2], ref
+
+    def _rigid_and_reference(self) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`rigid_motion` as the kernels take it: centre, velocity and angular velocity
+        stacked (3, n, 3), and the torque reference (n, 3)."""
         n = max(len(self.probes), 1)
-        centre, vel, omega, ref = (np.zeros((n, 3)) for _ in range(4))
+        rigid, ref = np.zeros((3, n, 3)), np.zeros((n, 3))
+        centre, vel, omega = rigid
         origin = np.asarray(self.grid.origin_m)
         d = self.grid.dim
         for i, probe in enumerate(self.probes):
@@ -455,7 +462,7 @@ class Simulation:
             vel[i, :d] = probe.velocity_m_s
             omega[i] = probe.omega3()
             ref[i, :d] = probe.reference_point() - origin[:d]
-        return centre, vel, omega, ref
+        return rigid, ref
 
     def _apply_boundaries(self, relax: bool = True) -> None:
         """Boundary velocities on the faces; ``relax``: the once-per-step relaxation of the
@@ -485,7 +492,7 @@ class Simulation:
                     mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
                                        cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
                                        rigid, g.cell_size_m, relax)  # fmt: skip
-        self.boundary.apply_normal(st.comps)
+        self.boundary.apply_normal(st.comps, self._kinds, self._side_vel)
 
     # -- forces ---------------------------------------------------------------------------------
     def computes_forces(self) -> bool:
