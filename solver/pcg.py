@@ -325,11 +325,12 @@ class JacobiPCG:
             raise ValueError(f"b must have the shape {self.shape}, got {b.shape}")
         _nx, ny, nz = b.shape
         strides = (ny * nz, nz, 1 if system.dim == 3 else 0)
-        diag, (ox, oy, oz) = system.diag.reshape(-1), (o.reshape(-1) for o in system.off)
+        ox, oy, oz = system.off
         xf = x.reshape(-1)
-        it, res = jacobi_pcg_flat(diag, ox, oy, oz, system.active.reshape(-1), strides,
+        it, res = jacobi_pcg_flat(system.diag.reshape(-1), ox.reshape(-1), oy.reshape(-1),
+                                  oz.reshape(-1), system.active.reshape(-1), strides,
                                   b.reshape(-1), xf, tol, max_iter, self.work)  # fmt: skip
-        if not np.shares_memory(xf, x):  # x was not contiguous: its flat form was a copy
+        if not x.flags.c_contiguous:  # its flat form was a copy
             x[...] = xf.reshape(x.shape)
         return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))
 
