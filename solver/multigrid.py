@@ -418,27 +418,6 @@ def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par
 
 
 @njit(cache=True, nogil=True)
-def load_levels(src_diag, src_x, src_y, src_z, src_active, diag, offx, offy, offz, active, inv,
-                shapes, starts, scales):  # fmt: skip
-    """The finest level from a system's arrays (3D views in the kernels' axis order, read with
-    their strides), then every coarse level (:func:`build_levels`). An active entry cut off from
-    every neighbour (a fluid cell walled in by solid) has a zero row: it is no unknown."""
-    n0, n1, n2 = src_diag.shape
-    n = 0
-    for i in range(n0):
-        for j in range(n1):
-            for k in range(n2):
-                d = src_diag[i, j, k]
-                diag[n] = d
-                offx[n] = src_x[i, j, k]
-                offy[n] = src_y[i, j, k]
-                offz[n] = src_z[i, j, k]
-                active[n] = src_active[i, j, k] and d > 0.0
-                n += 1
-    build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales)
-
-
-@njit(cache=True, nogil=True)
 def build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales):
     """Fill every coarse level (and every level's inverse diagonal) from the finest."""
     levels = shapes.shape[0]
@@ -591,13 +570,18 @@ class Multigrid:
         """Take ``system`` as the finest level and build the coarse ones from it."""
         if tuple(system.diag.shape) != self.shape or system.dim != self.dim:
             raise ValueError(f"system shape {system.diag.shape} does not match {self.shape}")
-        perm, off = self.perm, system.off
+        perm = self.perm
         # each array copied once, straight into the packed level (a transposed view is read
-        # with its strides), and the coarse levels built, in one call
-        load_levels(system.diag.transpose(perm), off[perm[0]].transpose(perm),
-                    off[perm[1]].transpose(perm), off[perm[2]].transpose(perm),
-                    system.active.transpose(perm), self.diag, *self.off, self.active, self.inv,
-                    self.shapes, self.starts, self.scales)  # fmt: skip
+        # with its strides)
+        np.copyto(self._finest(self.diag), system.diag.transpose(perm))
+        for a in range(3):
+            np.copyto(self._finest(self.off[a]), system.off[perm[a]].transpose(perm))
+        # an entry cut off from every neighbour (a fluid cell walled in by solid) has a zero row:
+        # it is no unknown
+        np.logical_and(system.active.transpose(perm), self._finest(self.diag) > 0.0,
+                       out=self._finest(self.active))  # fmt: skip
+        build_levels(self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
+                     self.scales)  # fmt: skip
 
     def solve(
         self, system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
