@@ -343,36 +343,46 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
     """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
     the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
     fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
-    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). One pass per
-    sample for both fields, unsigned indices, the division by ``samples`` in the last pass."""
+    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
+    every sample's reads summed into the row in turn (the row stays in the first-level cache),
+    unsigned indices, then the division by ``samples``."""
     ny, nx = gain_s.shape
     total = 0.0
+    offs_i = np.empty(samples, np.int64)
+    offs_j = np.empty(samples, np.int64)
+    w = np.empty((samples, 4))
     for k in range(samples):
         s = (k + 0.5) / samples
         ox, oy = s * dx, s * dy
         i0, j0 = int(np.floor(ox)), int(np.floor(oy))
         fx, fy = ox - i0, oy - j0
-        w00, w10, w01, w11 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
-        first, last = k == 0, k == samples - 1
-        for y in range(ny):
-            ya = np.uint64(y + pad_y + j0)
+        offs_i[k] = i0
+        offs_j[k] = j0
+        w[k, 0], w[k, 1] = (1 - fx) * (1 - fy), fx * (1 - fy)
+        w[k, 2], w[k, 3] = (1 - fx) * fy, fx * fy
+    for y in range(ny):
+        g_out, f_out = gain_s[y], frac_s[y]
+        for k in range(samples):
+            ya = np.uint64(y + pad_y + offs_j[k])
             ga, gb, fa, fb = gain[ya], gain[ya + np.uint64(1)], frac[ya], frac[ya + np.uint64(1)]
-            g_out, f_out = gain_s[y], frac_s[y]
-            for x in range(nx):
-                xa = np.uint64(x + pad_x + i0)
-                xb = xa + np.uint64(1)
-                g = w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
-                f = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
-                if not first:
-                    g += g_out[x]
-                    f += f_out[x]
-                if last:
-                    g /= samples
-                    f /= samples
-                g_out[x] = g
-                f_out[x] = f
-            if last:
-                total += _sum(g_out)
+            w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
+            xo = pad_x + offs_i[k]
+            if k == 0:
+                for x in range(nx):
+                    xa = np.uint64(x + xo)
+                    xb = xa + np.uint64(1)
+                    g_out[x] = w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
+                    f_out[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+            else:
+                for x in range(nx):
+                    xa = np.uint64(x + xo)
+                    xb = xa + np.uint64(1)
+                    g_out[x] += w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
+                    f_out[x] += w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+        for x in range(nx):
+            g_out[x] /= samples
+            f_out[x] /= samples
+        total += _sum(g_out)
     return total
 
 
@@ -437,15 +447,17 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     for p in range(n_p):
         gained, lost = 0.0, 0.0
         for y in range(ny):
-            row = paint[p, y0 + y]
+            row = paint[p, y0 + y, x0 : x0 + nx]
             gain_row = gain[pad_y + y, pad_x : pad_x + nx]
+            frac_row = frac[pad_y + y, pad_x : pad_x + nx]
+            share_row, mobile_row, new_row = share[y], mobile[y], new_mobile[p, y]
             for x in range(nx):
-                m = row[x0 + x] * share[y, x]
-                mobile[y, x] = m
-                c = new_mobile[p, y, x] - m
+                m = row[x] * share_row[x]
+                mobile_row[x] = m
+                c = new_row[x] - m
                 gain_row[x] = max(c, 0.0)
                 loss_row[x] = max(-c, 0.0)
-                frac[pad_y + y, pad_x + x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
+                frac_row[x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
             gained += _sum(gain_row)
             lost += _sum(loss_row)
         if gained == 0.0 and lost == 0.0:
@@ -467,12 +479,15 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
             continue  # the swept fractions meet too little paint: keep the unswept change
         for y in range(ny):
+            f_row, m_row, g_row = frac_s[y], mobile[y], gain_s[y]
+            t_row, new_row = touched[y], new_mobile[p, y]
             for x in range(nx):
-                take = min(scale * frac_s[y, x], 1.0) * mobile[y, x]
-                new = max(mobile[y, x] - take, 0.0) + gain_s[y, x]
-                if new != mobile[y, x]:
-                    touched[y, x] = True
-                new_mobile[p, y, x] = new
+                m = m_row[x]
+                take = min(scale * f_row[x], 1.0) * m
+                new = max(m - take, 0.0) + g_row[x]
+                if new != m:
+                    t_row[x] = True
+                new_row[x] = new
         done = True
     if done:
         for y in range(ny):
