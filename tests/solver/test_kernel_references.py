@@ -1,6 +1,7 @@
 """Kernels against plain numpy and Python references, 2D (one layer: a loop of its own) and 3D:
-the pressure gradient, the fresh cells' pressure, the face viscosity, the stencil product and the
-lattice offsets of the cut geometry. The same values, bit for bit."""
+the pressure gradient, the fresh cells' pressure, the face viscosity, the stencil product, the
+lattice offsets of the cut geometry and its 2D sub-lattices taken in one pass, the domain sides'
+normal faces and the pressure's right-hand side. The same values, bit for bit."""
 
 from __future__ import annotations
 
@@ -8,9 +9,19 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver.boundary import OUTFLOW, WALL
-from solver.cut_geometry import lattice_offsets_2d, lattice_offsets_3d
-from solver.cut_projection import fill_fresh_pressure, subtract_cut_gradient
+from solver.boundary import INFLOW, OUTFLOW, SLIP, WALL, set_normal_faces
+from solver.cut_geometry import (
+    _take_closer,
+    lattice_offsets_2d,
+    lattice_offsets_3d,
+    take_closer_2d,
+)
+from solver.cut_projection import (
+    fill_fresh_pressure,
+    pressure_rhs,
+    remove_mean,
+    subtract_cut_gradient,
+)
 from solver.pcg import apply_stencil
 from solver.viscosity import face_viscosity
 
@@ -163,3 +174,73 @@ def test_lattice_offsets_are_numpy_s_grid_less_the_centre(dim, step, seed):
     got = np.empty(want.shape)
     (lattice_offsets_2d if dim == 2 else lattice_offsets_3d)(origin, lo, h, step, centre, got)
     np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31))
+def test_the_2d_sub_lattices_taken_in_one_pass_are_each_taken_alone(seed):
+    """``take_closer_2d`` on a half-cell lattice's SDF gives the nodes, both faces and the cells
+    what ``_take_closer`` gives each of them on its own sub-lattice."""
+    rng = np.random.default_rng(seed)
+    n = rng.integers(2, 9, 2)  # the grid's cells
+    lo = np.array([rng.integers(0, n[0]), rng.integers(0, n[1]), 0])
+    hi = np.array([rng.integers(lo[0] + 1, n[0] + 1), rng.integers(lo[1] + 1, n[1] + 1), 1])
+    sdf = rng.uniform(-1, 1, (2 * (hi[0] - lo[0]) + 1, 2 * (hi[1] - lo[1]) + 1))
+    shapes = [(n[0] + 1, n[1] + 1, 1), (n[0] + 1, n[1], 1), (n[0], n[1] + 1, 1), (n[0], n[1], 1)]
+    phis = [rng.uniform(-1, 1, s) for s in shapes]
+    owners = [rng.integers(-1, 3, s).astype(np.int32) for s in shapes]
+    want_phi, want_owner = [p.copy() for p in phis], [o.copy() for o in owners]
+    even, odd = slice(0, None, 2), slice(1, None, 2)
+    for t, (sx, sy) in enumerate([(even, even), (even, odd), (odd, even), (odd, odd)]):
+        _take_closer(sdf[sx, sy, None], want_phi[t], want_owner[t], lo, 5, t == 3)
+    take_closer_2d(sdf, lo, 5, *(a for pair in zip(phis, owners, strict=True) for a in pair))
+    for t in range(4):
+        np.testing.assert_array_equal(phis[t], want_phi[t])
+        np.testing.assert_array_equal(owners[t], want_owner[t])
+
+
+@settings(max_examples=30, deadline=None)
+@given(dim=st.sampled_from([2, 3]), seed=st.integers(0, 2**31))
+def test_the_sides_normal_faces_are_the_numpy_slices(dim, seed):
+    """``set_normal_faces``: a wall's or slip wall's normal velocity on its faces, an outflow
+    side's neighbour values, an inflow side untouched."""
+    rng = np.random.default_rng(seed)
+    cells = tuple(int(c) for c in rng.integers(2, 6, dim)) + (1,) * (3 - dim)
+    kinds = rng.choice([WALL, SLIP, INFLOW, OUTFLOW], (3, 2)).astype(np.int64)
+    velocities = rng.uniform(-1, 1, (3, 2, 3))
+    for axis in range(dim):
+        shape = list(cells)
+        shape[axis] += 1
+        q = rng.uniform(-1, 1, shape)
+        want = q.copy()
+        for end in range(2):
+            face = [slice(None)] * 3
+            face[axis] = 0 if end == 0 else shape[axis] - 1
+            inner = list(face)
+            inner[axis] = 1 if end == 0 else shape[axis] - 2
+            if kinds[axis, end] == OUTFLOW:
+                want[tuple(face)] = want[tuple(inner)]
+            elif kinds[axis, end] != INFLOW:
+                want[tuple(face)] = velocities[axis, end, axis]
+        set_normal_faces(q, axis, kinds, velocities)
+        np.testing.assert_array_equal(q, want)
+
+
+@settings(max_examples=30, deadline=None)
+@given(closed=st.booleans(), seed=st.integers(0, 2**31))
+def test_the_pressure_right_hand_side_in_one_pass_is_the_numpy_one(closed, seed):
+    """``pressure_rhs``: the flux times ``-h``, less its mean over the active cells when the
+    domain is closed, and the warm start zeroed off them, as the numpy expressions give it."""
+    rng = np.random.default_rng(seed)
+    size = int(rng.integers(1, 200))
+    flux, phi = rng.uniform(-1, 1, size), rng.uniform(-1, 1, size)
+    active = rng.random(size) < 0.7
+    h = float(rng.uniform(1e-3, 0.1))
+    want_rhs, want_phi = flux.copy(), phi.copy()
+    want_rhs *= -h
+    if closed:
+        remove_mean(want_rhs, active)
+    want_phi[~active] = 0.0
+    pressure_rhs(flux, active, h, closed, phi)
+    np.testing.assert_array_equal(flux, want_rhs)
+    np.testing.assert_array_equal(phi, want_phi)

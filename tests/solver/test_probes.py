@@ -137,6 +137,22 @@ def test_world_box_of_a_box_is_its_rotated_corners_extent(dim):
     assert np.all(upper - lower < 2.0 * radius)
 
 
+@settings(max_examples=40, deadline=None)
+@given(dim=st.sampled_from([2, 3]), seed=st.integers(0, 2**31), filleted=st.booleans())
+def test_half_extents_are_the_support_of_each_row(dim, seed, filleted):
+    """A box's (or filleted box's) ``half_extents``, which the world box takes in one call, are
+    its support function along each row of the rotation, bit for bit: the box's lower corner is
+    the support towards minus each row."""
+    rng = np.random.default_rng(seed)
+    size = tuple(float(s) for s in rng.uniform(0.01, 0.4, dim))
+    shape = FilletedBox(size, 0.2 * min(size)) if filleted else Box(size)
+    pose = float(rng.uniform(-9, 9)) if dim == 2 else rotation.normalise(rng.standard_normal(4))
+    rot = rotation.rotation_matrix(dim, pose)
+    half = shape.half_extents(rot)
+    assert half == [shape.support(rot[a]) for a in range(dim)]
+    assert [-h for h in half] == [-shape.support(-rot[a]) for a in range(dim)]
+
+
 def test_world_box_without_a_support_function_is_the_bounding_spheres():
     probe = Probe("c", Ball(0.2), 3, np.array([0.1, 0.2, 0.3]))
     lower, upper = probe.world_box()
