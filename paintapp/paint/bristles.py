@@ -15,9 +15,9 @@ the brush deposits) the weights follow the profiles; elsewhere they are even. As
 each clump keeps its ``u`` and so draws a streak along the stroke, and the ridge profile heaps
 paint along both sides.
 
-Only the tip's footprint is shape code (its signed distance, on the texels within its reach); the
-rest is one kernel pass over the box (:func:`texture_weights`), with the profiles tabulated
-(:func:`profile_tables`).
+Only the tip's footprint is shape code (its signed distance, on the texels within its reach,
+which :func:`near_points` lists); the rest is one kernel pass over the box
+(:func:`texture_weights`), with the profiles tabulated (:func:`profile_tables`).
 """
 
 from __future__ import annotations
@@ -50,6 +50,25 @@ def _lookup(table, u):
     i = min(int(pos), n - 2)
     frac = pos - i
     return table[i] * (1.0 - frac) + table[i + 1] * frac
+
+
+@njit(cache=True, nogil=True)
+def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, index):
+    """The texels of the (ny, nx) box at (sx0, sy0) whose centres lie within ``sqrt(radius_sq)``
+    of the apex (cx, cy) (m), row by row: their centres in the footprint's body frame (turned by
+    the yaw's ``cos`` and ``sin``) into ``body`` and their flat indices in the box into
+    ``index``; returns how many."""
+    count = 0
+    for y in range(ny):
+        gy = (sy0 + y + 0.5) * texel - cy
+        for x in range(nx):
+            gx = (sx0 + x + 0.5) * texel - cx
+            if gx * gx + gy * gy <= radius_sq:
+                body[count, 0] = cos * gx + sin * gy
+                body[count, 1] = -sin * gx + cos * gy
+                index[count] = y * nx + x
+                count += 1
+    return count
 
 
 @njit(cache=True, nogil=True)
@@ -153,16 +172,15 @@ class BristleTexture:
         sy1 = min(y1, math.ceil((c[1] + radius) / t + 0.5))
         if sx1 <= sx0 or sy1 <= sy0:
             return None
-        dx = (np.arange(sx0, sx1) + 0.5) * t - c[0]
-        dy = (np.arange(sy0, sy1) + 0.5) * t - c[1]
-        gx, gy = np.meshgrid(dx, dy)  # (ny, nx)
-        near = gx**2 + gy**2 <= radius**2
-        if not near.any():
+        shape = (sy1 - sy0, sx1 - sx0)
+        body = np.empty((shape[0] * shape[1], 2))
+        index = np.empty(shape[0] * shape[1], np.int64)
+        count = near_points(sx0, sy0, t, float(c[0]), float(c[1]), self.cos, self.sin,
+                            radius**2, shape[1], shape[0], body, index)  # fmt: skip
+        if count == 0:
             return None
-        body = np.stack([self.cos * gx[near] + self.sin * gy[near],
-                         -self.sin * gx[near] + self.cos * gy[near]], axis=-1)  # fmt: skip
-        sdf = np.full(gx.shape, np.inf)
-        sdf[near] = self.footprint.sdf(body)
+        sdf = np.full(shape, np.inf)
+        sdf.reshape(-1)[index[:count]] = self.footprint.sdf(body[:count])
         gain, loss = np.empty((y1 - y0, x1 - x0)), np.empty((y1 - y0, x1 - x0))
         gain_table, loss_table = profile_tables(self.bristles)
         ax, ay = float(self.across[0]), float(self.across[1])

@@ -6,12 +6,14 @@ import dataclasses
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.ndimage import binary_dilation, gaussian_filter
 
 from brushes import Section, load_preset_named
 from brushes.bristles import Bristles
 from paintapp.canvas.model import Canvas
-from paintapp.paint.bristles import BristleTexture
+from paintapp.paint.bristles import BristleTexture, near_points
 from paintapp.paint.columns import ColumnWindow, transfer_weights
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
@@ -168,3 +170,27 @@ def test_the_write_back_lays_gains_with_the_weights_and_takes_losses_as_fraction
     assert not np.array_equal(canvas.paint_m, paint)
     untouched = to_texels(np.abs(delta).sum(axis=0)) == 0.0  # beyond every changed column
     assert untouched.any() and np.array_equal(canvas.paint_m[:, untouched], paint[:, untouched])
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31))
+def test_the_footprint_s_near_texels_are_numpy_s(seed):
+    """``near_points``: the texels of a box within a radius of the apex, in row order, their
+    centres turned into the body frame, as the numpy grid of the box's centres gives them."""
+    rng = np.random.default_rng(seed)
+    t = float(rng.uniform(5e-5, 5e-4))
+    sx0, sy0 = (int(v) for v in rng.integers(0, 500, 2))
+    nx, ny = (int(v) for v in rng.integers(1, 40, 2))
+    cx, cy = float(rng.uniform(sx0, sx0 + nx) * t), float(rng.uniform(sy0, sy0 + ny) * t)
+    yaw = float(rng.uniform(-4, 4))
+    cos, sin = np.cos(yaw), np.sin(yaw)
+    radius = float(rng.uniform(0.0, 0.6) * max(nx, ny) * t)
+    gx, gy = np.meshgrid((np.arange(sx0, sx0 + nx) + 0.5) * t - cx,
+                         (np.arange(sy0, sy0 + ny) + 0.5) * t - cy)  # fmt: skip
+    near = gx**2 + gy**2 <= radius**2
+    want = np.stack([cos * gx[near] + sin * gy[near], -sin * gx[near] + cos * gy[near]], axis=-1)
+    body, index = np.empty((nx * ny, 2)), np.empty(nx * ny, np.int64)
+    count = near_points(sx0, sy0, t, cx, cy, cos, sin, radius**2, nx, ny, body, index)
+    assert count == int(near.sum())
+    np.testing.assert_array_equal(body[:count], want)
+    np.testing.assert_array_equal(index[:count], np.flatnonzero(near))
