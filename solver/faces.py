@@ -39,8 +39,10 @@ def rigid_velocity(centre, vel, omega, p, x, y, z, axis):
 
 
 @njit(cache=True, nogil=True)
-def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_type, values):
-    """Classify the faces of component ``axis`` and set solid faces to the solid's velocity.
+def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_type, values, lo,
+                   hi):  # fmt: skip
+    """Classify the faces of component ``axis`` and set solid faces to the solid's velocity, in
+    the faces ``lo <= (i, j, k) < hi`` (clipped to the array; the rest is left as it is).
 
     Args:
         label: cell labels, shape (nx, ny, nz).
@@ -51,17 +53,18 @@ def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_ty
         h: cell size, metres.
         face_type: output, int8 array of the component's shape.
         values: the component's velocity array; solid faces are overwritten.
+        lo, hi: (3,) int64, the box of faces to classify.
     """
     nx, ny, nz = face_type.shape
     n_axis = label.shape[axis]
     di = U1 if axis == 0 else U0
     dj = U1 if axis == 1 else U0
     dk = U1 if axis == 2 else U0
-    for i in range(nx):
+    for i in range(max(lo[0], 0), min(hi[0], nx)):
         ui = np.uint64(i)
-        for j in range(ny):
+        for j in range(max(lo[1], 0), min(hi[1], ny)):
             uj = np.uint64(j)
-            for k in range(nz):
+            for k in range(max(lo[2], 0), min(hi[2], nz)):
                 uk = np.uint64(k)
                 idx = i if axis == 0 else (j if axis == 1 else k)
                 if (  # between two fluid cells (most faces): unsigned, no side tests
@@ -115,3 +118,17 @@ def label_cells(label, static_label, static_solid, owner_cell, use_owner):
         if use_owner and value == FLUID and owner[n] >= 0:
             value = owner[n]
         lab[n] = value
+
+
+def solid_adjacent_faces(label: np.ndarray, axis: int, shape: tuple[int, ...]) -> np.ndarray:
+    """Flat indices of the faces of component ``axis`` (array ``shape``) next to a cell that is
+    not fluid: those whose value :func:`classify_faces` sets."""
+    solid = label != FLUID
+    touch = np.zeros(shape, dtype=bool)
+    upper = [slice(None)] * 3
+    lower = [slice(None)] * 3
+    upper[axis] = slice(0, shape[axis] - 1)  # face i's upper cell is cell i
+    lower[axis] = slice(1, shape[axis])  # face i's lower cell is cell i - 1
+    touch[tuple(upper)] |= solid
+    touch[tuple(lower)] |= solid
+    return np.flatnonzero(touch)

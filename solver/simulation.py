@@ -27,7 +27,7 @@ from solver.cut_projection import (
     subtract_cut_gradient,
 )
 from solver.cut_viscosity import ViscosityWork, diffuse_cut, mark_probe_samples
-from solver.faces import FLUID, classify_faces, label_cells
+from solver.faces import FLUID, classify_faces, label_cells, solid_adjacent_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
@@ -107,6 +107,25 @@ class FluidState:
         )
 
 
+#: A box of faces holding any grid's.
+ZERO3 = np.zeros(3, dtype=np.int64)
+BIG3 = np.full(3, np.iinfo(np.int32).max, dtype=np.int64)
+
+
+@dataclass
+class KeptFaces:
+    """What a full face classification (cut cells) was made from, and what the steps after it
+    need: the static labels, the sides' kinds, the face type arrays it wrote, the flat indices of
+    each component's faces next to a static solid (reset to rest at every step) and the windows
+    whose probe samples the last step marked."""
+
+    static: np.ndarray
+    kinds: np.ndarray
+    face_types: tuple[np.ndarray, ...]
+    solid_faces: list[np.ndarray]
+    windows: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+
+
 class Simulation:
     """A fluid on a MAC grid with moving probes. ``step(dt_s)`` advances it."""
 
@@ -173,6 +192,8 @@ class Simulation:
         self._pressure_built: (
             tuple[np.ndarray, np.ndarray, list[tuple[np.ndarray, np.ndarray]]] | None
         ) = None
+        #: What the kept face classification holds (cut cells; see :meth:`_apply_boundaries`).
+        self._faces_built: KeptFaces | None = None
         self._kinds = self.boundary.kinds()
         self._side_vel = self.boundary.velocities()
         self._last_dt = 0.0
@@ -466,25 +487,30 @@ class Simulation:
 
     def _apply_boundaries(self, relax: bool = True) -> None:
         """Boundary velocities on the faces; ``relax``: the once-per-step relaxation of the
-        samples inside cut-cell probes (see :func:`solver.cut_viscosity.mark_probe_samples`)."""
+        samples inside cut-cell probes (see :func:`solver.cut_viscosity.mark_probe_samples`).
+
+        With cut cells the faces are classified against the static labels alone, and only
+        the probes' windows change their types (the samples inside a probe). While the static
+        labels, the sides' kinds and the face arrays are what the last full pass classified,
+        only the last step's windows are classified again (which clears their marks) and the
+        static solids' faces reset to rest; otherwise the whole grid. The same values either
+        way (64³: 1.1 ms for the whole grid)."""
         g, st = self.grid, self.state
         centre, vel, omega, _ = self._motion
         rigid = self._rigid
+        kept = self._kept_faces()
+        label = st.label if self.cut is None else self._static_label
         for a in range(g.dim):
             open_lo = bool(self._kinds[a, 0] == 3)
             open_hi = bool(self._kinds[a, 1] == 3)
-            classify_faces(
-                st.label if self.cut is None else self._static_label,
-                a,
-                open_lo,
-                open_hi,
-                centre,
-                vel,
-                omega,
-                g.cell_size_m,
-                st.face_types[a],
-                st.comps[a],
+            boxes = (
+                [(ZERO3, BIG3)] if kept is None else [(lo, hi + UNIT[a]) for lo, hi in kept.windows]
             )
+            for lo, hi in boxes:
+                classify_faces(label, a, open_lo, open_hi, centre, vel, omega, g.cell_size_m,
+                               st.face_types[a], st.comps[a], lo, hi)  # fmt: skip
+            if kept is not None:
+                st.comps[a].flat[kept.solid_faces[a]] = 0.0
             if self.cut is not None:
                 cut = self.cut
                 for lo, hi in cut.windows:
@@ -492,7 +518,29 @@ class Simulation:
                     mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
                                        cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
                                        rigid, g.cell_size_m, relax)  # fmt: skip
+        if self.cut is not None:
+            if kept is None:
+                solid = [solid_adjacent_faces(label, a, st.face_types[a].shape)
+                         for a in range(g.dim)]  # fmt: skip
+                kept = KeptFaces(label.copy(), self._kinds.copy(), tuple(st.face_types), solid)
+            kept.windows = list(self.cut.windows)
+            self._faces_built = kept
         self.boundary.apply_normal(st.comps, self._kinds, self._side_vel)
+
+    def _kept_faces(self) -> KeptFaces | None:
+        """The record of the last full classification, where it still holds (see
+        :meth:`_apply_boundaries`), else None."""
+        kept = self._faces_built
+        if self.cut is None or kept is None:
+            return None
+        if not (
+            np.array_equal(kept.static, self._static_label)
+            and np.array_equal(kept.kinds, self._kinds)
+            and len(kept.face_types) == len(self.state.face_types)
+            and all(a is b for a, b in zip(kept.face_types, self.state.face_types, strict=True))
+        ):
+            return None
+        return kept
 
     # -- forces ---------------------------------------------------------------------------------
     def computes_forces(self) -> bool:

@@ -37,8 +37,9 @@ def _faces(label, dim, kinds, shape, axis, rng):
     face_type = np.zeros(shape, dtype=np.int8)
     values = rng.standard_normal(shape)
     none = np.zeros((1, 3))
+    whole = (np.zeros(3, dtype=np.int64), np.array(shape, dtype=np.int64))
     classify_faces(label, axis, kinds[axis, 0] == OUTFLOW, kinds[axis, 1] == OUTFLOW, none, none,
-                   none, 0.1, face_type, values)  # fmt: skip
+                   none, 0.1, face_type, values, *whole)  # fmt: skip
     return face_type, values
 
 
