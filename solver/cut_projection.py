@@ -22,6 +22,7 @@ from numba import njit
 
 from solver.boundary import OUTFLOW
 from solver.faces import FLUID, rigid_velocity
+from solver.layers import layer_count
 from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 from solver.unsigned import U0, U1
 
@@ -132,7 +133,7 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
 
 
 @njit(cache=True, nogil=True)
-def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
+def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers):
     """Net outward flux per active cell through the fluid and solid parts of its faces (m/s).
 
     A face on the domain's side carries its prescribed (side) velocity on its fluid part and, where
@@ -141,8 +142,10 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
     in through the side), instead of the fluid being drawn in through the cell's open sliver at the
     solid's speed over the sliver's fraction (a box entering the domain at 3 m/s: 15.7 m/s through
     a face 16 % open). In a closed domain the probe's entry is then a net inflow, which the
-    projection spreads over all cells (it removes the mean)."""
+    projection spreads over all cells (it removes the mean). ``layers``: as
+    :func:`solver.layers.layer_count` gives it."""
     nx, ny, nz = out.shape
+    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.layers)
     comps = (u, v, w)
     ws = (wx, wy, wz)
     owners = (ox, oy, oz)
@@ -152,7 +155,7 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out):
         ui = np.uint64(i)
         for j in range(ny):
             uj = np.uint64(j)
-            for k in range(nz):
+            for k in range(nl):
                 uk = np.uint64(k)
                 if not active[ui, uj, uk]:
                     out[ui, uj, uk] = 0.0
@@ -366,7 +369,9 @@ def project_cut(
     u, v, w = comps
     wx, wy, wz = open_frac
     ox, oy, oz = owner_face
-    cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux)
+    cut_flux(
+        u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux, layer_count(flux.shape)
+    )
     closed = not (kinds[:dim] == OUTFLOW).any()
     if phi.flags.c_contiguous:
         pressure_rhs(flux.reshape(-1), system.active.reshape(-1), h, closed, phi.reshape(-1))

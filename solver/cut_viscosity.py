@@ -29,6 +29,7 @@ from numba import njit
 
 from solver.boundary import INFLOW, WALL
 from solver.faces import BOUNDARY, FREE, INTERIOR, rigid_velocity
+from solver.layers import layer_count
 from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
 from solver.unsigned import U1
 from solver.viscosity import _surface_velocity, face_viscosity
@@ -83,10 +84,11 @@ def _cut_coupling(phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
 @njit(cache=True, nogil=True)
 def build_cut_system(
     q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
-    owner, sys_out, rhs,
+    owner, sys_out, rhs, layers,
 ):  # fmt: skip
     """Assemble the diffusion system of component ``axis`` (see :mod:`solver.viscosity`), with
-    ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples.
+    ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples;
+    ``layers`` as :func:`solver.layers.layer_count` gives it.
 
     An unknown away from the domain's sides whose neighbours are all unknowns (most of them)
     takes a short path, unsigned-indexed, with the same sums in the same order as the general
@@ -96,13 +98,14 @@ def build_cut_system(
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
     three = dim == 3
+    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.layers)
     for i in range(nx):
         ui = np.uint64(i)
         inner_i = 0 < i < nx - 1
         for j in range(ny):
             uj = np.uint64(j)
             inner_ij = inner_i and 0 < j < ny - 1
-            for k in range(nz):
+            for k in range(nl):
                 uk = np.uint64(k)
                 if (
                     inner_ij
@@ -247,6 +250,6 @@ def diffuse_cut(
     scale = dt_s / (density_kg_m3 * h * h)
     build_cut_system(
         q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
-        owner, arrays, rhs,
+        owner, arrays, rhs, layer_count(q.shape),
     )  # fmt: skip
     return linear_solve(system, rhs, q, tol, max_iter)

@@ -30,6 +30,7 @@ from solver.cut_viscosity import ViscosityWork, diffuse_cut, mark_probe_samples
 from solver.faces import FLUID, classify_faces, label_cells, solid_adjacent_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
+from solver.layers import layer_count
 from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.multigrid import DIFFUSION_SCALES, Multigrid
 from solver.pcg import JacobiPCG, LinearSolve, SolveReport, StencilSystem, solve
@@ -672,7 +673,7 @@ class Simulation:
             wx, wy, wz = cut.open_frac
             ox, oy, oz = cut.owner_face
             cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, g.dim, g.cell_size_m,
-                     np.stack([centre, vel, omega]), out)  # fmt: skip
+                     np.stack([centre, vel, omega]), out, layer_count(out.shape))  # fmt: skip
             return out / g.cell_size_m
         divergence_sum(st.comps[0], st.comps[1], st.comps[2], st.label, g.dim, out)
         return out / g.cell_size_m

@@ -16,6 +16,7 @@ from solver.boundary import INFLOW, OUTFLOW, WALL
 from solver.cut_projection import build_cut_pressure_system, subtract_cut_gradient
 from solver.cut_viscosity import build_cut_system
 from solver.faces import FLUID, STATIC_SOLID, classify_faces
+from solver.layers import layer_count
 from solver.projection import build_pressure_system, subtract_gradient
 from solver.viscosity import build_variable_system, face_viscosity
 
@@ -65,7 +66,7 @@ def test_cut_viscosity_system_without_probes_is_the_staircases(dim):
                 common = (q, face_type, axis, dim, mu_face, 0.8, drag, kinds, side_vel, label,
                           rigid, 0.1)  # fmt: skip
                 if cut:
-                    build_cut_system(*common, phi, owner, arrays, rhs)
+                    build_cut_system(*common, phi, owner, arrays, rhs, layer_count(shape))
                 else:
                     build_variable_system(*common, arrays, rhs)
                 built.append((*arrays, rhs))

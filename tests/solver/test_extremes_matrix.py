@@ -24,6 +24,7 @@ import solver.simulation as simulation_module
 from paintapp.cli import main
 from solver.cut_projection import cut_flux
 from solver.faces import FLUID
+from solver.layers import layer_count
 from solver.pcg import SolveReport
 from solver.plan import max_boundary_speed
 from solver.projection import divergence_sum
@@ -83,7 +84,8 @@ def projections(monkeypatch) -> ProjectionLog:
 def _cut_flux(comps, system, open_frac, owner_face, rigid, h) -> np.ndarray:
     """Net flux per active cell through the fluid and solid parts of its faces (cut cells)."""
     out = np.empty(system.active.shape)
-    cut_flux(*comps, *open_frac, *owner_face, system.active, system.dim, h, rigid, out)
+    layers = layer_count(out.shape)
+    cut_flux(*comps, *open_frac, *owner_face, system.active, system.dim, h, rigid, out, layers)
     return out[system.active]
 
 

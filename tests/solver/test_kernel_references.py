@@ -1,7 +1,8 @@
 """Kernels against plain numpy and Python references, 2D (one layer: a loop of its own) and 3D:
 the pressure gradient, the fresh cells' pressure, the face viscosity, the stencil product, the
 lattice offsets of the cut geometry and its 2D sub-lattices taken in one pass, the domain sides'
-normal faces and the pressure's right-hand side. The same values, bit for bit."""
+normal faces, the pressure's right-hand side, and the cut flux compiled for one layer. The same
+values, bit for bit."""
 
 from __future__ import annotations
 
@@ -17,11 +18,13 @@ from solver.cut_geometry import (
     take_closer_2d,
 )
 from solver.cut_projection import (
+    cut_flux,
     fill_fresh_pressure,
     pressure_rhs,
     remove_mean,
     subtract_cut_gradient,
 )
+from solver.layers import layer_count
 from solver.pcg import apply_stencil
 from solver.viscosity import face_viscosity
 
@@ -244,3 +247,23 @@ def test_the_pressure_right_hand_side_in_one_pass_is_the_numpy_one(closed, seed)
     pressure_rhs(flux, active, h, closed, phi)
     np.testing.assert_array_equal(flux, want_rhs)
     np.testing.assert_array_equal(phi, want_phi)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(2, 12), st.integers(2, 12), st.integers(0, 2**31))
+def test_a_2d_flux_compiled_for_one_layer_is_the_general_loops(nx, ny, seed):
+    """``cut_flux`` given ``layers`` None (a loop of one pass that the compiler removes) against
+    the same kernel looping over the layer count 1, with faces partly solid and probes."""
+    rng = np.random.default_rng(seed)
+    cells = (nx, ny, 1)
+    shapes = [tuple(c + (a == b) for a, c in enumerate(cells)) for b in range(3)]
+    comps = [rng.standard_normal(s) for s in shapes]
+    open_frac = [np.where(rng.random(s) < 0.3, rng.random(s), 1.0) for s in shapes]
+    owners = [np.where(f < 1.0, 0, -1).astype(np.int32) for f in open_frac]
+    active = rng.random(cells) < 0.9
+    rigid = rng.standard_normal((3, 1, 3))
+    outs = [np.full(cells, np.nan), np.full(cells, np.nan)]
+    for out, layers in zip(outs, (layer_count(cells), 1), strict=True):
+        cut_flux(*comps, *open_frac, *owners, active, 2, 0.1, rigid, out, layers)
+    assert layer_count(cells) is None
+    np.testing.assert_array_equal(outs[0], outs[1])
