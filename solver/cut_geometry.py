@@ -189,10 +189,21 @@ def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
 
 @njit(cache=True, nogil=True)
 def _fill(a, lo, hi, value):
-    """``a[lo:hi] = value`` over a 3D window, clipped to ``a``'s shape as a slice is."""
-    for i in range(lo[0], min(hi[0], a.shape[0])):
-        for j in range(lo[1], min(hi[1], a.shape[1])):
-            for k in range(lo[2], min(hi[2], a.shape[2])):
+    """``a[lo:hi] = value`` over a 3D window (``lo >= 0``), clipped to ``a``'s shape as a slice
+    is. A window across the whole last axis (every one on a 2D grid) fills a contiguous run per
+    first index (``a`` is C-contiguous): a loop over the last axis's one or two layers cost more
+    than the stores."""
+    nx, ny, nz = a.shape
+    j0, j1 = lo[1], min(hi[1], ny)
+    if lo[2] == 0 and hi[2] >= nz:
+        flat = a.reshape(-1)
+        for i in range(lo[0], min(hi[0], nx)):
+            for n in range((i * ny + j0) * nz, (i * ny + j1) * nz):
+                flat[n] = value
+        return
+    for i in range(lo[0], min(hi[0], nx)):
+        for j in range(j0, j1):
+            for k in range(lo[2], min(hi[2], nz)):
                 a[i, j, k] = value
 
 

@@ -1,8 +1,8 @@
 """Kernels against plain numpy and Python references, 2D (one layer: a loop of its own) and 3D:
 the pressure gradient, the fresh cells' pressure, the face viscosity, the stencil product, the
 lattice offsets of the cut geometry and its 2D sub-lattices taken in one pass, the domain sides'
-normal faces, the pressure's right-hand side, and the cut flux compiled for one layer. The same
-values, bit for bit."""
+normal faces, the pressure's right-hand side, the cut flux compiled for one layer, and the cut
+geometry's window fill. The same values, bit for bit."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from solver.boundary import INFLOW, OUTFLOW, SLIP, WALL, set_normal_faces
 from solver.cut_geometry import (
+    _fill,
     _take_closer,
     lattice_offsets_2d,
     lattice_offsets_3d,
@@ -267,3 +268,24 @@ def test_a_2d_flux_compiled_for_one_layer_is_the_general_loops(nx, ny, seed):
         cut_flux(*comps, *open_frac, *owners, active, 2, 0.1, rigid, out, layers)
     assert layer_count(cells) is None
     np.testing.assert_array_equal(outs[0], outs[1])
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    shape=st.tuples(st.integers(1, 7), st.integers(1, 7), st.integers(1, 5)),
+    window=st.lists(st.integers(0, 9), min_size=6, max_size=6),
+    dtype=st.sampled_from([np.float64, np.int32]),
+)
+def test_a_window_fill_is_numpy_s_slice_assignment(shape, window, dtype):
+    """The cut geometry's window fill against ``a[lo:hi] = value``: windows across the whole
+    last axis (a contiguous run per first index, every 2D window) and windows within it, empty
+    ones, and ones past the array's end."""
+    lo = np.array(window[:3], dtype=np.int64)
+    hi = lo + np.array(window[3:], dtype=np.int64)
+    if window[2] % 2 == 0:  # half of them across the whole last axis
+        lo[2], hi[2] = 0, shape[2] + window[5] % 2
+    got = np.arange(np.prod(shape), dtype=dtype).reshape(shape)
+    want = got.copy()
+    _fill(got, lo, hi, dtype(-7))
+    want[lo[0] : hi[0], lo[1] : hi[1], lo[2] : hi[2]] = -7
+    np.testing.assert_array_equal(got, want)
