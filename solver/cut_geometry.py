@@ -42,6 +42,7 @@ import numpy as np
 from numba import njit
 
 from solver.grid import Grid
+from solver.layers import layer_count
 from solver.probes import Probe
 from solver.shapes import Shape, with_rounded_corners
 
@@ -120,14 +121,18 @@ def fraction_inside_square(c0, c1, c2, c3):
 
 
 @njit(cache=True, nogil=True)
-def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner):
+def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner, layers):
     """Open fraction and solid owner of the faces of component ``axis`` in the window
     ``lo <= (i, j, k) < hi`` (face indices): 2D, the fluid share of each face's staggered control
     volume, whose corners are the other component's face centres ``phi_other`` (on the domain's
-    sides the half inside it); 3D, the open share of the face from the node SDF ``phi_node``."""
+    sides the half inside it); 3D, the open share of the face from the node SDF ``phi_node``.
+    ``layers``: as :func:`solver.layers.layer_count` gives it for the grid (on a 2D grid the
+    window holds the one layer of the x and y faces)."""
+    k0 = 0 if layers is None else lo[2]  # constants on a 2D grid (see solver.layers)
+    k1 = 1 if layers is None else hi[2]
     for i in range(lo[0], hi[0]):
         for j in range(lo[1], hi[1]):
-            for k in range(lo[2], hi[2]):
+            for k in range(k0, k1):
                 if dim == 2:
                     i1, j1 = (i, j + 1) if axis == 0 else (i + 1, j)
                     a, b = phi_node[i, j, 0], phi_node[i1, j1, 0]
@@ -295,12 +300,13 @@ class CutGeometry:
             self.windows.append((lo, hi))
             shape = with_rounded_corners(probe.shape, corner_radius_m)
             _sample_sdf(grid, probe, shape, n, lo, hi, self)
+        layers = layer_count(self.fluid_frac.shape)
         for lo, hi in self.windows:
             for a in range(d):
                 face_hi = hi + UNIT[a]
                 open_fractions(self.phi_node, self.phi_face[1 - a] if d == 2 else self.phi_node,
                                self.owner_node, d, a, lo, face_hi,
-                               self.open_frac[a], self.owner_face[a])  # fmt: skip
+                               self.open_frac[a], self.owner_face[a], layers)  # fmt: skip
             wx, wy, wz = self.open_frac
             fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)
 

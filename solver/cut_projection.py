@@ -58,7 +58,7 @@ def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
 
 @njit(cache=True, nogil=True)
 def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active,
-                              lo, hi):  # fmt: skip
+                              lo, hi, layers):  # fmt: skip
     """Assemble the face-weighted Poisson matrix (the one place it is built; a preconditioner
     may be built on ``diag``/``off*``/``active``), in the cells ``lo <= (i, j, k) < hi`` (clipped
     to the grid; the rest of the outputs is left as it is).
@@ -69,18 +69,21 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
         wx, wy, wz: open face fractions of the probes.
         diag, offx, offy, offz, active: outputs, cells' shape.
         lo, hi: (3,) int64, the box of cells to assemble.
+        layers: as :func:`solver.layers.layer_count` gives it.
     """
     nx, ny, nz = static.shape
     shape = (nx, ny, nz)
     ws = (wx, wy, wz)
     three = dim == 3
+    k0 = 0 if layers is None else max(lo[2], 0)  # constants on a 2D grid (see solver.layers)
+    k1 = 1 if layers is None else min(hi[2], nz)
     for i in range(max(lo[0], 0), min(hi[0], nx)):
         ui = np.uint64(i)
         inner_i = 0 < i < nx - 1
         for j in range(max(lo[1], 0), min(hi[1], ny)):
             uj = np.uint64(j)
             inner_ij = inner_i and 0 < j < ny - 1
-            for k in range(max(lo[2], 0), min(hi[2], nz)):
+            for k in range(k0, k1):
                 uk = np.uint64(k)
                 if (  # a fluid cell among fluid cells: the same sums on a short unsigned path
                     inner_ij
@@ -343,7 +346,7 @@ def pressure_system(
         boxes = [(np.zeros(3, dtype=np.int64), np.array(static.shape, dtype=np.int64))]
     for lo, hi in boxes:
         build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
-                                  system.active, lo, hi)  # fmt: skip
+                                  system.active, lo, hi, layer_count(static.shape))  # fmt: skip
     return system
 
 

@@ -86,7 +86,9 @@ def test_cut_pressure_matrix_and_correction_without_probes_are_the_staircases(di
             arrays = (*(np.full(cells, 7.0) for _ in range(4)), np.zeros(cells, dtype=bool))
             if cut:
                 whole = (np.zeros(3, dtype=np.int64), np.array(cells, dtype=np.int64))
-                build_cut_pressure_system(label, dim, kinds, *opened, *arrays, *whole)
+                build_cut_pressure_system(
+                    label, dim, kinds, *opened, *arrays, *whole, layer_count(cells)
+                )
             else:
                 build_pressure_system(label, dim, kinds, *arrays)
             systems.append(arrays)
