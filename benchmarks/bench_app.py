@@ -20,13 +20,17 @@ and the window's share of it.
 each window run followed by its own headless run) and ends with a table of every round and the
 medians. The machines are shared and their speed drifts by tens of percent within minutes: the
 window's share of the headless rate is only meaningful between a window run and the headless run
-right after it, and its median over rounds says more than any one pair. The table's last row,
-the servo's median tick cost (the same work every tick), shows how fast the machine ran during
-each round's window run. Three more rows give the share of the machine's CPU time that the host
-took during each round's window run (over the run, and its largest over any half second) and its
-headless run (Linux's steal counter; on a virtual machine, time in which its CPUs had work but
-the hypervisor ran something else): a round with steal is a round in which the host, not the
-program, set part of the figures.
+right after it, and its median over rounds says more than any one pair. The share is the
+product of two figures the table shows: the CPU time the worker thread got per second of the
+window run (the headless run's is about 1.0; less is time spent waiting, for the interpreter
+lock or a core), times the headless run's CPU time per paint step over the window's (more in
+the window is the same work slowed by the caches and cores it shares with the GUI, the
+rasterizer and the servo process). The row of the servo's median tick cost (the same work every
+tick) shows how fast the machine ran during each round's window run. Three more rows give the
+share of the machine's CPU time that the host took during each round's window run (over the
+run, and its largest over any half second) and its headless run (Linux's steal counter; on a
+virtual machine, time in which its CPUs had work but the hypervisor ran something else): a
+round with steal is a round in which the host, not the program, set part of the figures.
 ``--json`` writes every figure to a file as well (the medians at the top level, each round's
 figures under ``"rounds"``).
 """
@@ -214,6 +218,9 @@ SUMMARY = (
     ("simulation rate", "{:.1f}"),
     ("headless simulation rate", "{:.1f}"),
     ("window share of headless", "{:.0%}"),
+    ("worker CPU per second, window", "{:.2f}"),
+    ("worker CPU per paint step, window (ms)", "{:.1f}"),
+    ("worker CPU per paint step, headless (ms)", "{:.1f}"),
     ("frame rate", "{:.1f}"),
     ("servo tick cost p50 (us)", "{:.0f}"),
     ("host CPU steal, window run", "{:.1%}"),
@@ -297,6 +304,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
         print(f"no paint step: worker says {win.worker.message!r}; in contact "
               f"{session.in_contact}; last sample {session.tracker.last}")  # fmt: skip
     figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
+    figures["worker CPU per second, window"] = rates["worker_cpu"]
     figures |= {
         "seconds": rates["seconds"],
         "frame rate": rates["frame_hz"],
@@ -341,6 +349,15 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
+        if rates["sim_hz"] > 0 and headless > 0 and headless_cpu > 0:
+            # the share, split: the worker's CPU per wall second against the headless run's,
+            # times the headless run's CPU time per paint step against the window's
+            window_ms = 1e3 * rates["worker_cpu"] / rates["sim_hz"]
+            headless_ms = 1e3 * headless_cpu / headless
+            print(f"worker CPU      {window_ms:.1f} ms a paint step in the window, "
+                  f"{headless_ms:.1f} ms headless")  # fmt: skip
+            figures["worker CPU per paint step, window (ms)"] = window_ms
+            figures["worker CPU per paint step, headless (ms)"] = headless_ms
         print(f"host CPU steal  {headless_steal.describe()} during the headless run")
         if headless_steal.share is not None:
             figures["host CPU steal, headless run"] = headless_steal.share

@@ -86,9 +86,8 @@ class ProcessOptions:
         exit_fade_s: the whole output fades to zero over this time before the child exits.
         duration_s: stop by itself after this long (None: until told or orphaned).
         start_m: where the simulated hand starts (canvas frame, m).
-        spin_s: how long before each deadline the clock stops sleeping and spins. A real-time
-            task wakes within tens of microseconds (no timer slack), so it spins less than a
-            thread must, and leaves that CPU time to the simulation.
+        spin_s: how long before each deadline the clock stops sleeping and spins; None picks
+            by what the OS granted (:func:`spin_for`).
     """
 
     device: str = "sim"
@@ -99,7 +98,25 @@ class ProcessOptions:
     exit_fade_s: float = 0.25
     duration_s: float | None = None
     start_m: tuple[float, float, float] = (0.0, 0.0, 0.005)
-    spin_s: float = 2e-4
+    spin_s: float | None = None
+
+
+#: The clock's spin before each deadline with a real-time scheduling class, and without one, s.
+#: A real-time task wakes within tens of microseconds of its deadline (no timer slack, nothing of
+#: lower class runs first): on a 2-core machine, `benchmarks/bench_app.py --device sim`, six
+#: rounds each, no spin against 200 us gave the painting window's simulation 81 % of its headless
+#: rate against 72 % (the spin is a fifth of a core, on the core beside the simulation's) at a
+#: servo lateness p99 of 0.09-0.42 ms against 0.00-0.03 (target 0.5). Without real-time priority
+#: a wake-up can come later, and the spin stays.
+REALTIME_SPIN_S = 0.0
+NORMAL_SPIN_S = 2e-4
+
+
+def spin_for(granted: Granted, spin_s: float | None = None) -> float:
+    """The clock's spin: ``spin_s`` when given, else by ``granted`` (see :data:`REALTIME_SPIN_S`)."""
+    if spin_s is not None:
+        return float(spin_s)
+    return REALTIME_SPIN_S if granted.realtime else NORMAL_SPIN_S
 
 
 def build_device(text: str, time_source: Any, target: SharedTarget | None) -> HapticDevice:
@@ -259,7 +276,7 @@ def child_main(block_name: str, options: ProcessOptions, commands: Any, events: 
     block.pid = os.getpid()
     parent_pid = os.getppid()
     config = options.config
-    clock = RealTimeClock(config.tick_s, spin_s=options.spin_s)
+    clock = RealTimeClock(config.tick_s, spin_s=spin_for(Granted(), options.spin_s))
     try:
         target = SharedTarget(block.target, options.start_m)
         raw = build_device(options.device, clock.now_s, target)
@@ -275,8 +292,10 @@ def child_main(block_name: str, options: ProcessOptions, commands: Any, events: 
     host = _Host(loop, device, block, commands, events, options, parent_pid)
     signal.signal(signal.SIGTERM, lambda *_: host.leave("terminated"))
     granted = apply_realtime(pin=options.pin) if options.realtime else Granted()
+    clock.spin_s = spin_for(granted, options.spin_s)
     heavy = [m for m in HEAVY_MODULES if m in sys.modules]
-    _send(events, ("ready", granted.describe(), heavy))
+    described = f"{granted.describe()}, spins {1e6 * clock.spin_s:.0f} us before each tick"
+    _send(events, ("ready", described, heavy))
     block.phase = PHASE_RUNNING
     max_ticks = (
         None if options.duration_s is None else max(1, round(options.duration_s / clock.period_s))

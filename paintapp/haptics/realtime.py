@@ -42,6 +42,11 @@ class Granted:
     gc: str = "on"
     memory_locked: bool = False
 
+    @property
+    def realtime(self) -> bool:
+        """Whether a real-time scheduling class was granted."""
+        return self.scheduler.startswith("SCHED_")
+
     def describe(self) -> str:
         """One line for the HUD and ``haptics-check``."""
         cpu = "not pinned" if self.cpu is None else f"pinned to CPU {self.cpu}"

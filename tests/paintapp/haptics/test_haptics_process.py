@@ -18,7 +18,15 @@ from collections.abc import Callable
 import pytest
 
 from paintapp.haptics.device import DeviceNotFoundError
-from paintapp.haptics.process import HEAVY_MODULES, ProcessOptions, ServoProcess
+from paintapp.haptics.process import (
+    HEAVY_MODULES,
+    NORMAL_SPIN_S,
+    REALTIME_SPIN_S,
+    ProcessOptions,
+    ServoProcess,
+    spin_for,
+)
+from paintapp.haptics.realtime import Granted
 from paintapp.haptics.shared_state import PHASE_EXITED, SharedBlock
 from tests.support.servo_harness import app_stand_in
 
@@ -52,6 +60,7 @@ def test_servo_process_runs_light_takes_commands_and_stops_at_zero():
         servo.start()
         assert servo.heavy_modules == [] and set(servo.heavy_modules) <= set(HEAVY_MODULES)
         assert servo.granted and servo.granted != "not started"
+        assert "us before each tick" in servo.granted  # the clock's spin, as granted
         for i in range(3000):  # hovering: the safety stage engages, the fluid force comes in
             servo.forces.publish_force(0.01 * i, [0.02, 0.0, 0.0])
             if servo.audit()["last_force_n"] > 0:
@@ -148,3 +157,15 @@ def test_sigkill_of_the_servo_process_is_noticed():
     finally:
         servo.stop()
     assert_clean_writes(servo.audit())
+
+
+def test_the_clock_spins_only_without_real_time_priority_unless_told():
+    """With a real-time class the wake-up is precise and the spin's core time goes to the
+    simulation; without one the clock keeps spinning; an explicit spin wins either way."""
+    fifo, rr = Granted("SCHED_FIFO 40"), Granted("SCHED_RR 40")
+    assert fifo.realtime and rr.realtime
+    assert not Granted("nice -10").realtime and not Granted("normal").realtime
+    assert spin_for(fifo) == spin_for(rr) == REALTIME_SPIN_S
+    assert spin_for(Granted("nice -10")) == spin_for(Granted()) == NORMAL_SPIN_S
+    assert REALTIME_SPIN_S < NORMAL_SPIN_S
+    assert spin_for(fifo, 1e-4) == spin_for(Granted(), 1e-4) == 1e-4
