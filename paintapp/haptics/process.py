@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from common.errors import InputError
 from paintapp.haptics.clock import RealTimeClock
 from paintapp.haptics.device import DeviceInfo, DeviceNotFoundError, DeviceState, HapticDevice
 from paintapp.haptics.devices.simulated import SimulatedDevice
@@ -99,6 +100,14 @@ class ProcessOptions:
     duration_s: float | None = None
     start_m: tuple[float, float, float] = (0.0, 0.0, 0.005)
     spin_s: float | None = None
+
+    def __post_init__(self) -> None:
+        spin = self.spin_s
+        if spin is not None and not (math.isfinite(spin) and 0.0 <= spin <= self.config.tick_s):
+            raise InputError(
+                f"spin_s: expected None or seconds in [0, {self.config.tick_s:g}], got {spin}",
+                key="spin_s",
+            )
 
 
 #: The clock's spin before each deadline with a real-time scheduling class, and without one, s.

@@ -17,6 +17,7 @@ from collections.abc import Callable
 
 import pytest
 
+from common.errors import InputError
 from paintapp.haptics.device import DeviceNotFoundError
 from paintapp.haptics.process import (
     HEAVY_MODULES,
@@ -169,3 +170,7 @@ def test_the_clock_spins_only_without_real_time_priority_unless_told():
     assert spin_for(Granted("nice -10")) == spin_for(Granted()) == NORMAL_SPIN_S
     assert REALTIME_SPIN_S < NORMAL_SPIN_S
     assert spin_for(fifo, 1e-4) == spin_for(Granted(), 1e-4) == 1e-4
+    for bad in (-1e-4, float("nan"), float("inf"), 2e-3):  # more than a whole 1 ms tick
+        with pytest.raises(InputError, match="spin_s"):
+            ProcessOptions(spin_s=bad)
+    assert ProcessOptions(spin_s=0.0).spin_s == 0.0 and ProcessOptions().spin_s is None
