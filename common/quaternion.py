@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 
@@ -27,8 +29,9 @@ def normalise(q: np.ndarray) -> np.ndarray:
     return q / n
 
 
-def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a * b of quaternions [w, x, y, z]."""
+def multiply(a: np.ndarray | Sequence[float], b: np.ndarray | Sequence[float]) -> np.ndarray:
+    """Hamilton product a * b of quaternions [w, x, y, z] (arrays, or sequences of floats, whose
+    scalar arithmetic is the cheaper where it runs every servo tick)."""
     aw, ax, ay, az = a
     bw, bx, by, bz = b
     return np.array(

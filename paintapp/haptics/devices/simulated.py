@@ -125,18 +125,21 @@ class SimulatedDevice:
         self.hand = hand or HandParams()
         self._info = info or SIMULATED_INFO
         self._target_q = quat_from_tilt_twist(np.asarray(tilt_rad), 0.0)
+        self._target_q_list = self._target_q.tolist()
         self.substep_s = float(substep_s)
         self.is_open = False
         self.max_force_written_n = 0.0
         self.nonfinite_writes = 0
         self._t_s = self._t0_s = 0.0
         self._started = False
-        self._x = np.zeros(3)
-        self._v = np.zeros(3)
-        self._theta = np.zeros(3)
-        self._omega = np.zeros(3)
-        self._force = np.zeros(3)
-        self._torque = np.zeros(3)
+        # The hand's state as Python floats: a tick integrates two substeps of 3-vectors, where
+        # numpy's per-call cost would be most of the servo process's tick.
+        self._x = [0.0, 0.0, 0.0]
+        self._v = [0.0, 0.0, 0.0]
+        self._theta = [0.0, 0.0, 0.0]
+        self._omega = [0.0, 0.0, 0.0]
+        self._force = [0.0, 0.0, 0.0]
+        self._torque = [0.0, 0.0, 0.0]
 
     @property
     def info(self) -> DeviceInfo:
@@ -145,30 +148,35 @@ class SimulatedDevice:
     def open(self) -> None:
         self._started = False
         self._t_s = self._t0_s = self.time_source()
-        self._x, _ = self.target(0.0)
-        self._x = np.array(self._x, dtype=np.float64)
-        self._v = np.zeros(3)
-        self._theta, self._omega = np.zeros(3), np.zeros(3)
-        self._force, self._torque = np.zeros(3), np.zeros(3)
+        x, _ = self.target(0.0)
+        self._x = [float(c) for c in x]
+        self._v = [0.0, 0.0, 0.0]
+        self._theta, self._omega = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        self._force, self._torque = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
         self.is_open = True
 
     def close(self) -> None:
-        self._force, self._torque = np.zeros(3), np.zeros(3)
+        self._force, self._torque = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
         self.is_open = False
 
     def _substep(self, t_s: float, h: float) -> None:
+        """One semi-implicit Euler step of ``h`` seconds, component by component (the same
+        operations, in the same order, as the vector form ``v += h (k (x_t - x) + c (v_t - v) +
+        f) / m``, ``x += h v``, and its rotational twin)."""
         p = self.hand
         xt, vt = self.target(t_s - self._t0_s)  # the target's time counts from open()
-        acc = p.stiffness_n_per_m * (xt - self._x) + p.damping_ns_per_m * (vt - self._v)
-        self._v = self._v + h * (acc + self._force) / p.mass_kg
-        self._x = self._x + h * self._v
-        alpha = (
-            -p.rot_stiffness_nm_per_rad * self._theta
-            - p.rot_damping_nms_per_rad * self._omega
-            + self._torque
-        ) / p.inertia_kg_m2
-        self._omega = self._omega + h * alpha
-        self._theta = self._theta + h * self._omega
+        xt, vt = xt.tolist(), vt.tolist()
+        k, c, m = p.stiffness_n_per_m, p.damping_ns_per_m, p.mass_kg
+        kr, cr, inertia = p.rot_stiffness_nm_per_rad, p.rot_damping_nms_per_rad, p.inertia_kg_m2
+        x, v, theta, omega = self._x, self._v, self._theta, self._omega
+        f, tq = self._force, self._torque
+        for i in range(3):
+            acc = k * (xt[i] - x[i]) + c * (vt[i] - v[i])
+            v[i] = v[i] + h * (acc + f[i]) / m
+            x[i] = x[i] + h * v[i]
+            alpha = (-kr * theta[i] - cr * omega[i] + tq[i]) / inertia
+            omega[i] = omega[i] + h * alpha
+            theta[i] = theta[i] + h * omega[i]
 
     def advance(self, t_s: float) -> None:
         """Integrate the hand up to time ``t_s`` with the last written force held."""
@@ -183,8 +191,9 @@ class SimulatedDevice:
 
     def orientation_wxyz(self) -> np.ndarray:
         """The stylus orientation: the target orientation turned by the hand's deviation."""
-        dq = np.concatenate([[1.0], 0.5 * self._theta])
-        q = quat_multiply(self._target_q, dq / np.linalg.norm(dq))
+        dx, dy, dz = (0.5 * a for a in self._theta)
+        n = math.sqrt(1.0 + dx * dx + dy * dy + dz * dz)
+        q = quat_multiply(self._target_q_list, (1.0 / n, dx / n, dy / n, dz / n))
         return q if q[0] >= 0 else -q
 
     def read(self) -> DeviceState:
@@ -197,35 +206,35 @@ class SimulatedDevice:
             self._started = True
             self._t_s = self._t0_s = now
         self.advance(now)
-        return DeviceState(self._t_s, self._x.copy(), self.orientation_wxyz())
+        return DeviceState(self._t_s, np.array(self._x), self.orientation_wxyz())
 
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:
         if not self.is_open:
             raise DeviceError("simulated device is not open")
-        if not (np.all(np.isfinite(force_n)) and np.all(np.isfinite(torque_nm))):
+        force = [float(c) for c in np.asarray(force_n, dtype=np.float64).reshape(3)]
+        torque = [float(c) for c in np.asarray(torque_nm, dtype=np.float64).reshape(3)]
+        if not all(map(math.isfinite, force + torque)):
             self.nonfinite_writes += 1
-            force_n, torque_nm = np.zeros(3), np.zeros(3)
-        self._force = np.array(force_n, dtype=np.float64)
-        self._torque = np.array(torque_nm, dtype=np.float64)
-        self.max_force_written_n = max(self.max_force_written_n, float(np.linalg.norm(force_n)))
+            force, torque = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        self._force, self._torque = force, torque
+        self.max_force_written_n = max(self.max_force_written_n, math.hypot(*force))
 
     def energy_j(self) -> float:
         """Mechanical energy of the hand's deviation from its target, J (kinetic + grip spring)."""
         p = self.hand
         xt, vt = self.target(self._t_s - self._t0_s)
-        dv, dx = self._v - vt, self._x - xt
+        dv, dx = np.array(self._v) - vt, np.array(self._x) - xt
+        omega, theta = np.array(self._omega), np.array(self._theta)
         linear = 0.5 * p.mass_kg * float(dv @ dv) + 0.5 * p.stiffness_n_per_m * float(dx @ dx)
-        angular = 0.5 * p.inertia_kg_m2 * float(self._omega @ self._omega)
-        return (
-            linear + angular + 0.5 * p.rot_stiffness_nm_per_rad * float(self._theta @ self._theta)
-        )
+        angular = 0.5 * p.inertia_kg_m2 * float(omega @ omega)
+        return linear + angular + 0.5 * p.rot_stiffness_nm_per_rad * float(theta @ theta)
 
     @property
     def position_m(self) -> np.ndarray:
         """Current tip position, m, shape (3,)."""
-        return self._x.copy()
+        return np.array(self._x)
 
     @property
     def velocity_m_per_s(self) -> np.ndarray:
         """Current tip velocity (ground truth, for tests), m/s, shape (3,)."""
-        return self._v.copy()
+        return np.array(self._v)
