@@ -100,7 +100,18 @@ def circle_m(win, t: float) -> tuple[float, float]:
     return 0.5 * w + 0.25 * h * math.cos(a), 0.5 * h + 0.25 * h * math.sin(a)
 
 
-def paint(app, win, seconds: float) -> dict[str, float]:
+def process_cpu_s(pid: int | None) -> float | None:
+    """CPU time (user + system) another process of ours has used so far, s; None if unknown."""
+    if pid is None:
+        return None
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def paint(app, win, seconds: float) -> dict[str, float | None]:
     """Paint for ``seconds``; returns the measured rates."""
     from PySide6.QtCore import QEvent
 
@@ -109,6 +120,8 @@ def paint(app, win, seconds: float) -> dict[str, float]:
     frames0, steps0 = widget.frame_count, win.worker.session.stats.paint_steps
     drawn0 = widget.drawn_count
     worker_clock = time.pthread_getcpuclockid(win.worker.ident)
+    servo_pid = None if win.link is None or win.link.process is None else win.link.process.pid
+    servo0 = process_cpu_s(servo_pid)
     cpu0 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
     start = time.perf_counter()
     first = True
@@ -124,7 +137,11 @@ def paint(app, win, seconds: float) -> dict[str, float]:
         time.sleep(0.004)
     elapsed = time.perf_counter() - start
     cpu1 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
+    servo1 = process_cpu_s(servo_pid)
+    servo_cpu = None if servo0 is None or servo1 is None else (servo1 - servo0) / elapsed
     return {
+        # the servo process's CPU time per wall second (user and system), None without one
+        "servo_cpu": servo_cpu,
         "seconds": elapsed,
         # passes of the render loop (each leaves the screen up to date), and those that had
         # something to redraw (new paint, the brush outline or the force arrow moved)
@@ -219,6 +236,7 @@ SUMMARY = (
     ("headless simulation rate", "{:.1f}"),
     ("window share of headless", "{:.0%}"),
     ("worker CPU per second, window", "{:.2f}"),
+    ("servo process CPU per second", "{:.2f}"),
     ("worker CPU per paint step, window (ms)", "{:.1f}"),
     ("worker CPU per paint step, headless (ms)", "{:.1f}"),
     ("frame rate", "{:.1f}"),
@@ -297,14 +315,19 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
     print(f"frame rate      {rates['frame_hz']:7.1f} Hz ({rates['drawn_hz']:.1f} Hz with changes)")
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
+    servo_cpu = rates["servo_cpu"]
+    servo_text = "" if servo_cpu is None else f", servo process {servo_cpu:.2f}"
     print(f"CPU per second  worker {rates['worker_cpu']:.2f}, GUI {rates['gui_cpu']:.2f}, "
-          f"app process {rates['app_cpu']:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
+          f"app process {rates['app_cpu']:.2f}{servo_text} "
+          f"(machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
     if rates["sim_hz"] == 0.0:
         session = win.worker.session
         print(f"no paint step: worker says {win.worker.message!r}; in contact "
               f"{session.in_contact}; last sample {session.tracker.last}")  # fmt: skip
     figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
     figures["worker CPU per second, window"] = rates["worker_cpu"]
+    if servo_cpu is not None:
+        figures["servo process CPU per second"] = servo_cpu
     figures |= {
         "seconds": rates["seconds"],
         "frame rate": rates["frame_hz"],

@@ -130,7 +130,7 @@ class ServoLoop:
         self._has_torque = info.has_torque
         self._canvas_origin = np.array([0.0, 0.0, cfg.contact.height_m])
         # A 2-DOF device (joystick) pushes in x and y only: drop z before the safety stage.
-        self._force_mask = np.array([1.0, 1.0, 0.0 if info.dof_actuated == 2 else 1.0])
+        self._drop_z = info.dof_actuated == 2
 
     def close(self) -> None:
         """Stop any background run and close the device (it outputs zero force)."""
@@ -199,7 +199,10 @@ class ServoLoop:
             fluid_f = _ZERO3
         if not self._has_torque:
             fluid_t = _ZERO3
-        force, torque = self.safety.apply((contact + fluid_f) * self._force_mask, fluid_t, dt)
+        total = contact + fluid_f
+        if self._drop_z:
+            total[2] = 0.0
+        force, torque = self.safety.apply(total, fluid_t, dt)
         try:
             self.device.write(force, torque)
         except Exception as exc:

@@ -41,7 +41,7 @@ class VelocityEstimator:
 
     def update(self, t_s: float, position_m: np.ndarray) -> np.ndarray:
         """Add a reading taken at ``t_s`` seconds at ``position_m`` (3,); returns the velocity."""
-        if not (math.isfinite(t_s) and np.all(np.isfinite(position_m))):
+        if not (math.isfinite(t_s) and np.isfinite(position_m).all()):
             return self._v
         if self._t_s is None:
             self._t_s, self._x = t_s, np.array(position_m, dtype=np.float64)

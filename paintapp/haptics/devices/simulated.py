@@ -211,8 +211,8 @@ class SimulatedDevice:
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:
         if not self.is_open:
             raise DeviceError("simulated device is not open")
-        force = [float(c) for c in np.asarray(force_n, dtype=np.float64).reshape(3)]
-        torque = [float(c) for c in np.asarray(torque_nm, dtype=np.float64).reshape(3)]
+        force = np.asarray(force_n, dtype=np.float64).reshape(3).tolist()
+        torque = np.asarray(torque_nm, dtype=np.float64).reshape(3).tolist()
         if not all(map(math.isfinite, force + torque)):
             self.nonfinite_writes += 1
             force, torque = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
