@@ -1,14 +1,17 @@
 """Frame rate, simulation rate and servo jitter of the painting window while it paints.
 
     python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--servo process|thread]
+                                   [--simulation thread|process]
                                    [--headless-seconds S] [--rounds N] [--json OUT.json]
                                    [--screenshot OUT.png]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
 dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events
 sent to the canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs
-the 1 kHz servo loop, in its own process unless ``--servo thread``). Prints the display frame
-rate (passes of the render loop, each leaving the screen up to date, and how many of them had
+the 1 kHz servo loop, in its own process unless ``--servo thread``), with the window's
+simulation in a thread of the window or (``--simulation process``) a process of its own. Prints
+the display frame rate (passes of the render loop, each leaving the screen up to date, and how
+many of them had
 something to redraw), the paint steps per second, and with a device the servo loop's achieved
 rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
@@ -111,18 +114,38 @@ def process_cpu_s(pid: int | None) -> float | None:
         return None
 
 
+def paint_steps(win) -> int:
+    """Paint steps the window's simulation has taken (the worker's status says it in both forms;
+    a thread is asked directly, its status lagging a step)."""
+    session = getattr(win.worker, "session", None)
+    if session is not None:
+        return session.stats.paint_steps
+    return win.worker.status.get().paint_steps
+
+
+def worker_cpu_clock(win):
+    """A function giving the CPU time the simulation has used, s: its thread's, or its whole
+    process's in the process form."""
+    ident = getattr(win.worker, "ident", None)
+    if ident is not None:
+        clock = time.pthread_getcpuclockid(ident)
+        return lambda: time.clock_gettime(clock)
+    pid = win.worker.pid
+    return lambda: process_cpu_s(pid) or 0.0
+
+
 def paint(app, win, seconds: float) -> dict[str, float | None]:
     """Paint for ``seconds``; returns the measured rates."""
     from PySide6.QtCore import QEvent
 
     widget = win.canvas_widget
     send = tablet_sender(widget)
-    frames0, steps0 = widget.frame_count, win.worker.session.stats.paint_steps
+    frames0, steps0 = widget.frame_count, paint_steps(win)
     drawn0 = widget.drawn_count
-    worker_clock = time.pthread_getcpuclockid(win.worker.ident)
+    worker_cpu = worker_cpu_clock(win)
     servo_pid = None if win.link is None or win.link.process is None else win.link.process.pid
     servo0 = process_cpu_s(servo_pid)
-    cpu0 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
+    cpu0 = (worker_cpu(), time.thread_time(), time.process_time())
     start = time.perf_counter()
     first = True
     while (t := time.perf_counter() - start) < seconds:
@@ -136,7 +159,7 @@ def paint(app, win, seconds: float) -> dict[str, float | None]:
         app.processEvents()
         time.sleep(0.004)
     elapsed = time.perf_counter() - start
-    cpu1 = (time.clock_gettime(worker_clock), time.thread_time(), time.process_time())
+    cpu1 = (worker_cpu(), time.thread_time(), time.process_time())
     servo1 = process_cpu_s(servo_pid)
     servo_cpu = None if servo0 is None or servo1 is None else (servo1 - servo0) / elapsed
     return {
@@ -147,7 +170,7 @@ def paint(app, win, seconds: float) -> dict[str, float | None]:
         # something to redraw (new paint, the brush outline or the force arrow moved)
         "frame_hz": (widget.frame_count - frames0) / elapsed,
         "drawn_hz": (widget.drawn_count - drawn0) / elapsed,
-        "sim_hz": (win.worker.session.stats.paint_steps - steps0) / elapsed,
+        "sim_hz": (paint_steps(win) - steps0) / elapsed,
         # CPU time per wall second: the simulation worker thread, the GUI thread, the whole app
         # process (servo thread and llvmpipe's threads included). A worker far below 1 while
         # the app as a whole is not CPU-bound would point at the interpreter lock.
@@ -193,6 +216,8 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=6.0)
     parser.add_argument("--device", choices=("none", "sim"), default="none")
     parser.add_argument("--servo", choices=("process", "thread"), default="process")
+    parser.add_argument("--simulation", choices=("thread", "process"), default="thread",
+                        help="where the window's simulation runs")  # fmt: skip
     parser.add_argument("--headless-seconds", type=float, default=None,
                         help="length of the headless run (default: --seconds; 0 skips it)")  # fmt: skip
     parser.add_argument("--rounds", type=int, default=1,
@@ -299,7 +324,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
         sys.setswitchinterval(1e-3 * args.switch_interval_ms)
     options = PaintOptions(
         device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
-        servo=args.servo, record=tmp / "bench.jsonl",
+        servo=args.servo, record=tmp / "bench.jsonl", simulation=args.simulation,
     )  # fmt: skip
     figures: dict[str, object] = {"device": args.device, "load_before": os.getloadavg()[0]}
     app, win = create_window(options, interactive=False)
@@ -321,9 +346,9 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
           f"app process {rates['app_cpu']:.2f}{servo_text} "
           f"(machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
     if rates["sim_hz"] == 0.0:
-        session = win.worker.session
-        print(f"no paint step: worker says {win.worker.message!r}; in contact "
-              f"{session.in_contact}; last sample {session.tracker.last}")  # fmt: skip
+        status = win.worker.status.get()
+        print(f"no paint step: worker says {status.message!r}; in contact "
+              f"{status.in_contact}; tip {status.tip_m}")  # fmt: skip
     figures |= {k: rates[k] for k in ("worker_cpu", "gui_cpu", "app_cpu")}
     figures["worker CPU per second, window"] = rates["worker_cpu"]
     if servo_cpu is not None:

@@ -34,6 +34,9 @@ class PaintOptions:
         frame_ms: the render timer's period, ms.
         servo: where the 1 kHz servo loop runs with a device: "process" (its own process, real
             time where the OS grants it) or "thread" (a thread of the app).
+        simulation: where the simulation worker runs: "thread" (a thread of the app) or
+            "process" (its own process, :mod:`paintapp.app.sim_process`; with a device only
+            beside a servo process).
     """
 
     canvas_path: Path | None = None
@@ -49,6 +52,7 @@ class PaintOptions:
     size_m: tuple[float, float] = DEFAULT_SIZE_M
     frame_ms: int = 16
     servo: str = "process"
+    simulation: str = "thread"
 
 
 def blank_canvas(like: Canvas | None = None, options: PaintOptions | None = None) -> Canvas:

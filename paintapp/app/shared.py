@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from paintapp.app.history import copy_canvas, copy_region
+from paintapp.app.history import copy_canvas, copy_region, match_pigments
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import LatestValue
@@ -55,6 +55,40 @@ class SharedCanvas:
         with self.lock:
             copy_region(live, self.canvas, box)
             self.canvas.mark_dirty(*box)
+            self.version += 1
+
+    def apply_region(
+        self, box: Box, names: tuple[str, ...], paint: np.ndarray, wetness: np.ndarray
+    ) -> None:
+        """Write a region a simulation process sent: ``paint`` (one layer per pigment of
+        ``names``) and ``wetness`` into ``box`` of the display canvas, marked dirty there. A
+        region that does not fit the display canvas (sent before a canvas that replaced it) is
+        dropped."""
+        x0, y0, x1, y1 = box
+        with self.lock:
+            canvas = self.canvas
+            if not (0 <= x0 <= x1 <= canvas.width and 0 <= y0 <= y1 <= canvas.height):
+                return
+            if paint.shape != (len(names), y1 - y0, x1 - x0) or wetness.shape != paint.shape[1:]:
+                return
+            match_pigments(canvas, names)
+            for i, name in enumerate(names):
+                canvas.paint_m[canvas.pigment_index(name), y0:y1, x0:x1] = paint[i]
+            canvas.wetness[y0:y1, x0:x1] = wetness
+            canvas.mark_dirty(*box)
+            self.version += 1
+
+    def apply_wetness(self, box: Box, wetness: np.ndarray) -> None:
+        """Write the wetness a simulation process sent for ``box`` (drying)."""
+        x0, y0, x1, y1 = box
+        with self.lock:
+            canvas = self.canvas
+            if not (0 <= x0 <= x1 <= canvas.width and 0 <= y0 <= y1 <= canvas.height):
+                return
+            if wetness.shape != (y1 - y0, x1 - x0):
+                return
+            canvas.wetness[y0:y1, x0:x1] = wetness
+            canvas.mark_wet_dirty(*box)
             self.version += 1
 
     def publish_wetness(self, live: Canvas, box: Box) -> None:
@@ -95,6 +129,9 @@ class WorkerStatus:
         undo, redo: undo and redo depth.
         fault: a device failure message, or None.
         message: a short note for the status line ("" for none).
+        paint_steps: paint steps so far.
+        viscosity_pa_s: the paint's viscosity in the session's scene, Pa s.
+        journal: the journal file being written ("" for none).
     """
 
     sim_hz: float = 0.0
@@ -111,6 +148,9 @@ class WorkerStatus:
     redo: int = 0
     fault: str | None = None
     message: str = ""
+    paint_steps: int = 0
+    viscosity_pa_s: float = 0.0
+    journal: str = ""
 
 
 class StatusSlot(LatestValue[WorkerStatus]):

@@ -34,9 +34,17 @@ from paintapp.app.input import PenState, sample_from_pen
 from paintapp.app.journal import Journal
 from paintapp.app.options import PaintOptions
 from paintapp.app.recovery import Recovery
-from paintapp.app.settings import MAX_SCALE, MIN_SCALE, MODEL_LABELS, PaintSettings, brush_names
+from paintapp.app.settings import (
+    MAX_SCALE,
+    MIN_SCALE,
+    MODEL_LABELS,
+    PaintSettings,
+    brush_names,
+    make_scene,
+)
 from paintapp.app.shared import SharedCanvas
 from paintapp.app.shortcuts import SHORTCUTS, HelpOverlay
+from paintapp.app.sim_process import SimulationProcess, simulation_mode
 from paintapp.app.worker import SimulationWorker
 from paintapp.canvas.model import Canvas
 from paintapp.pigments.library import PigmentLibrary
@@ -77,9 +85,20 @@ class PaintWindow(QMainWindow):
         self.pigments = tuple(sorted(library))[:16]
         self.shared = SharedCanvas(copy_canvas(canvas))
         self.journal = Journal(options.record, options.overwrite_record)
-        self.worker = SimulationWorker(
-            canvas, self.shared, self.settings, self.pigments, self.journal, options.scene, link
-        )
+        self.simulation = simulation_mode(options.simulation, link)
+        self.worker: SimulationWorker | SimulationProcess
+        if self.simulation == "process":
+            block = None if link is None or link.process is None else link.process.block.name
+            self.worker = SimulationProcess(
+                canvas, self.shared, self.settings, self.pigments, options.record,
+                options.overwrite_record, options.scene, block,
+            )  # fmt: skip
+        else:
+            self.worker = SimulationWorker(
+                canvas, self.shared, self.settings, self.pigments, self.journal, options.scene, link
+            )
+        self._scene_viscosity = make_scene(self.settings, options.scene).viscosity_pa_s
+        self._fault_sent = False
         self.recovery = Recovery(options.recovery_dir, library)
         self.pen_events = 0
         self._frame = 0
@@ -119,7 +138,7 @@ class PaintWindow(QMainWindow):
             self.library,
             self.pigments,
             self.settings,
-            self.worker.session.scene.viscosity_pa_s,
+            self._scene_viscosity,
             handlers,
         )
         scroll = QScrollArea()
@@ -208,6 +227,15 @@ class PaintWindow(QMainWindow):
                 self.help.update()
             self._show_slab()
         status = self.worker.status.get()
+        link = self.link
+        if (
+            isinstance(self.worker, SimulationProcess)
+            and link is not None
+            and link.fault is not None
+            and not self._fault_sent
+        ):
+            self._fault_sent = True  # the worker in the child cannot see the link's fault
+            self.worker.device_fault(link.fault)
         if status.fault and not self._fault_seen:
             self._fault_seen = True  # keep the work: autosave at once
             self.autosave(force=True)
@@ -232,10 +260,14 @@ class PaintWindow(QMainWindow):
             device=self.options.device.label,
             servo_where=self._servo_where(),
             brush=f"{s.brush} x{s.brush_scale:.2g} load {100 * s.load_fraction:.0f}%",
-            model=f"{MODEL_LABELS[s.fluid_model]}, {self.worker.session.scene.viscosity_pa_s:.3g} Pa s",
+            model=f"{MODEL_LABELS[s.fluid_model]}, {self._viscosity():.3g} Pa s",
             force_scale=s.force_scale,
-            journal=str(self.journal.path or ""),
+            journal=self.worker.status.get().journal,
         )
+
+    def _viscosity(self) -> float:
+        """The paint's viscosity in the session's scene, Pa s (the worker's, once it has said)."""
+        return self.worker.status.get().viscosity_pa_s or self._scene_viscosity
 
     def _servo_where(self) -> str:
         link = self.link
@@ -349,7 +381,7 @@ class PaintWindow(QMainWindow):
             return
         canvas, version = self.shared.snapshot()
         document = str(self.document.path) if self.document.path else None
-        journal = str(self.journal.path) if self.journal.path else None
+        journal = self.worker.status.get().journal or None
         self.recovery.save_async(canvas, version, document, journal)
 
     def closeEvent(self, event: QCloseEvent) -> None:

@@ -348,6 +348,9 @@ class SimulationWorker(threading.Thread):
             redo=self.history.redo_count,
             fault=self._fault,
             message=self.journal.error or self.message,
+            paint_steps=self.session.stats.paint_steps,
+            viscosity_pa_s=self.session.scene.viscosity_pa_s,
+            journal=str(self.journal.path or ""),
         )
         self.status.publish(status)
 

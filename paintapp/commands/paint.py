@@ -53,6 +53,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--autosave", type=float, default=60.0, metavar="S", help="autosave interval (0: off)"
     )
+    parser.add_argument(
+        "--simulation",
+        choices=("thread", "process"),
+        default="thread",
+        help="run the simulation in a thread of the window (default) or a process of its own",
+    )
     parser.add_argument("--recovery-dir", type=Path, help="autosave folder")
     parser.add_argument(
         "--recover", choices=("ask", "yes", "no"), default="ask", help="after a crash"
@@ -92,6 +98,7 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
         settings=settings,
         pixels=pixels,
         size_m=size_m,
+        simulation=args.simulation,
     )
 
 

@@ -115,6 +115,56 @@ def test_stroke_paints_journals_undoes_and_shows(window, pump, stroke, tmp_path)
     assert labels == ["undo", "redo"]
 
 
+def test_the_simulation_in_a_process_of_its_own_paints_journals_undoes_and_dies_safely(
+    qapp, pump, stroke, tmp_path
+):
+    """``--simulation process``: the same stroke paints the display canvas through the regions
+    the child sends, the child's journal replays to that canvas, undo and redo cross the pipe,
+    and SIGKILL of the child is reported with the paint kept."""
+    import os
+    import signal
+
+    from paintapp.app.launch import create_window
+    from paintapp.app.sim_process import SimulationProcess
+
+    _, win = create_window(
+        _options(tmp_path, simulation="process", **FAST_CANVAS), interactive=False
+    )
+    try:
+        assert isinstance(win.worker, SimulationProcess)
+        assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
+        win.load_pigment("ultramarine_blue")
+        assert pump(60.0, lambda: "loaded" in win.worker.status.get().message), "no child"
+        stroke(win, START_M, END_M)
+        _idle(win, pump, 1)
+        painted = _paint(win)
+        ys, xs = np.nonzero(painted > 1e-7)
+        assert len(xs) > 200
+        dx = win.shared.canvas.texel_size_m[0]
+        reach = 2.0 * win.worker.status.get().brush_radius_m + 0.005
+        assert np.all(np.abs((ys + 0.5) * dx - START_M[1]) < reach)
+        strokes = read_strokes(tmp_path / "strokes.jsonl")
+        assert any(isinstance(r, LoadPigment) for r in strokes.records)
+        again = replay(strokes).canvas
+        assert np.allclose(again.paint_m.sum(axis=0), painted, atol=1e-9)
+        assert win.worker.status.get().journal == str(tmp_path / "strokes.jsonl")
+
+        win.undo()
+        assert pump(10.0, lambda: win.worker.status.get().undo == 0)
+        assert pump(5.0, lambda: _paint(win).max() == 0)
+        win.redo()
+        assert pump(10.0, lambda: win.worker.status.get().redo == 0)
+        assert pump(5.0, lambda: np.array_equal(_paint(win), painted))
+
+        os.kill(win.worker.pid, signal.SIGKILL)
+        assert pump(10.0, lambda: win.worker.status.get().fault is not None)
+        assert "simulation process stopped" in win.worker.status.get().fault
+        assert np.array_equal(_paint(win), painted)  # nothing painted is lost
+    finally:
+        win.close()
+        pump(0.1)
+
+
 def _region(image, x: int, y: int, w: int, h: int) -> np.ndarray:
     return np.array(
         [
@@ -216,16 +266,22 @@ def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_pa
         pump(0.1)
 
 
-def test_servo_process_steers_the_brush_and_its_death_is_survived(qapp, pump, stroke, tmp_path):
+@pytest.mark.parametrize("simulation", ["thread", "process"])
+def test_servo_process_steers_the_brush_and_its_death_is_survived(
+    qapp, pump, stroke, tmp_path, simulation
+):
     """The default servo form is a process of its own: it steers the brush through shared
     memory; SIGKILL of it mid-stroke is noticed, journalled, and the pointer paints on. The
-    device never got a non-finite or over-limit write."""
+    device never got a non-finite or over-limit write. With the simulation in a process of its
+    own too, that process reads the stylus and publishes the force through the servo's shared
+    memory, and learns of the servo's death from the window."""
     import os
     import signal
 
     from paintapp.app.launch import create_window
 
-    _, win = create_window(_options(tmp_path, device=parse_device("sim")), interactive=False)
+    options = _options(tmp_path, device=parse_device("sim"), simulation=simulation)
+    _, win = create_window(options, interactive=False)
     try:
         link = win.link
         assert link.mode == "process" and link.process.heavy_modules == []
