@@ -11,9 +11,9 @@ sent to the canvas widget (``none``), or as the simulated hand's target (``sim``
 the 1 kHz servo loop, in its own process unless ``--servo thread``), with the window's
 simulation in a thread of the window or (``--simulation process``) a process of its own. Prints
 the display frame rate (passes of the render loop, each leaving the screen up to date, and how
-many of them had
-something to redraw), the paint steps per second, and with a device the servo loop's achieved
-rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
+many of them had something to redraw), the paint steps per second, and with a device the servo
+loop's achieved rate, tick-interval jitter and start lateness, and what the OS granted the servo
+process. Then
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo
 loop -- as fast as it takes them, from the first paint step on, and prints that paint-step rate
