@@ -5,18 +5,18 @@
                                    [--headless-seconds S] [--rounds N] [--json OUT.json]
                                    [--screenshot OUT.png]
 
-Opens the real window (on the current display, or on a private Xvfb server when there is none), dips
-the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events sent to the
-canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs the 1 kHz
-servo loop, in its own process unless ``--servo thread``), with the window's simulation in a thread
-of the window or (``--simulation process``) a process of its own. Prints the display frame rate
-(passes of the render loop, each leaving the screen up to date, and how many of them had something
-to redraw), the paint steps per second, and with a device the servo loop's achieved rate, tick-
-interval jitter and start lateness, and what the OS granted the servo process. Then (unless
-``--headless-seconds 0``) it feeds the very samples and events the window's simulation consumed (its
-journal) to a fresh session of the same brush and scene -- no window, no servo loop -- as fast as it
-takes them, from the first paint step on, and prints that paint-step rate and the window's share of
-it.
+Opens the real window (on the current display, or on a private Xvfb server when there is none),
+dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events sent
+to the canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs the 1
+kHz servo loop, in its own process unless ``--servo thread``), with the window's simulation in a
+thread of the window or (``--simulation process``) a process of its own. Prints the display frame
+rate (passes of the render loop, each leaving the screen up to date, and how many of them had
+something to redraw), the paint steps per second, and with a device the servo loop's achieved
+rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
+(unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
+consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo loop
+-- as fast as it takes them, from the first paint step on, and prints that paint-step rate and the
+window's share of it.
 
 ``--rounds N`` repeats the whole measurement N times (a fresh window and servo process each time,
 each window run followed by its own headless run) and ends with a table of every round and the
