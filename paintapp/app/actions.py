@@ -85,28 +85,24 @@ def _apply_settings(settings: PaintSettings, w: SimulationWorker) -> None:
 
 def undo() -> Command:
     """Undo the latest stroke."""
-    return partial(_undo)
-
-
-def _undo(w: SimulationWorker) -> None:
-    w.end_stroke()
-    box = w.history.undo(w.live)
-    if box is not None:
-        w.journal.marker(w.session_time(), "undo")
-    w.message = "undone" if box is not None else "nothing to undo"
+    return partial(_history_step, "undo")
 
 
 def redo() -> Command:
     """Redo the latest undone stroke."""
-    return partial(_redo)
+    return partial(_history_step, "redo")
 
 
-def _redo(w: SimulationWorker) -> None:
+def _history_step(which: str, w: SimulationWorker) -> None:
+    """``which``: "undo" or "redo"."""
     w.end_stroke()
-    box = w.history.redo(w.live)
+    step = w.history.undo if which == "undo" else w.history.redo
+    box = step(w.live)
     if box is not None:
-        w.journal.marker(w.session_time(), "redo")
-    w.message = "redone" if box is not None else "nothing to redo"
+        w.journal.marker(w.session_time(), which)
+    w.message = (
+        ("undone" if which == "undo" else "redone") if box is not None else f"nothing to {which}"
+    )
 
 
 def replace_canvas(canvas: Canvas, note: str) -> Command:

@@ -17,15 +17,7 @@ from paintapp.app.shared import SharedCanvas
 from paintapp.app.sim_process import SimulationProcess, simulation_mode
 from paintapp.canvas.model import Canvas
 from paintapp.strokes.files import read_strokes
-
-
-def _wait(until, seconds: float = 60.0) -> bool:
-    end = time.perf_counter() + seconds
-    while time.perf_counter() < end:
-        if until():
-            return True
-        time.sleep(0.01)
-    return until()
+from tests.support.waiting import wait_for
 
 
 def test_every_command_pickles_and_runs_as_the_same_function() -> None:
@@ -70,13 +62,13 @@ def test_a_stroke_in_the_child_reaches_the_display_canvas_and_its_journal(tmp_pa
     sim.start()
     try:
         sim.submit(actions.load_pigment("ultramarine_blue"))
-        assert _wait(lambda: "loaded" in sim.status.get().message)
+        assert wait_for(lambda: "loaded" in sim.status.get().message, 60.0)
         for i in range(60):
             x = 0.012 + 0.024 * i / 59
             sim.push(StylusSample(0.0, np.array([x, 0.024, 0.0]), 0.8))
             time.sleep(0.02)
         sim.push(StylusSample(0.0, np.array([0.036, 0.024, 0.01]), 0.0))
-        assert _wait(lambda: sim.status.get().strokes == 1 and sim.idle.is_set())
+        assert wait_for(lambda: sim.status.get().strokes == 1 and sim.idle.is_set(), 60.0)
         status = sim.status.get()
         assert status.paint_steps > 5 and status.fault is None
         with shared.lock:
@@ -86,8 +78,8 @@ def test_a_stroke_in_the_child_reaches_the_display_canvas_and_its_journal(tmp_pa
         dx = shared.canvas.texel_size_m[0]
         assert np.all(np.abs((ys + 0.5) * dx - 0.024) < 2.0 * status.brush_radius_m + 0.002)
         sim.submit(actions.undo())
-        assert _wait(lambda: sim.status.get().undo == 0)
-        assert _wait(lambda: float(shared.canvas.paint_m.sum()) == 0.0, 10.0)
+        assert wait_for(lambda: sim.status.get().undo == 0, 60.0)
+        assert wait_for(lambda: float(shared.canvas.paint_m.sum()) == 0.0, 10.0)
     finally:
         sim._down.close()  # the window's end goes away without a word
         sim._proc.join(30.0)

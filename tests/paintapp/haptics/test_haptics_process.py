@@ -13,7 +13,6 @@ import multiprocessing as mp
 import os
 import signal
 import time
-from collections.abc import Callable
 
 import pytest
 
@@ -30,15 +29,7 @@ from paintapp.haptics.process import (
 from paintapp.haptics.realtime import Granted
 from paintapp.haptics.shared_state import PHASE_EXITED, SharedBlock
 from tests.support.servo_harness import app_stand_in
-
-
-def wait_for(condition: Callable[[], bool], seconds: float) -> bool:
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.01)
-    return condition()
+from tests.support.waiting import wait_for
 
 
 def assert_clean_writes(audit: dict[str, float]) -> None:
