@@ -37,10 +37,14 @@ from pathlib import Path
 from typing import Any
 
 from brushes import StylusSample
+from common.errors import InputError
+from paintapp.app.journal import Journal
 from paintapp.app.shared import SharedCanvas, StatusSlot, WorkerStatus
+from paintapp.app.worker import SimulationWorker
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import LatestValue
+from paintapp.haptics.shared_state import SharedBlock, SharedForceChannel, SharedStateChannel
 from paintapp.paint.paint_scene import PaintScene
 
 #: The ways the window's simulation worker can run.
@@ -52,8 +56,6 @@ def simulation_mode(asked: str, link: Any) -> str:
     haptic device whose servo loop is a thread of the app keeps it a thread (its force channel
     lives in the app's memory)."""
     if asked not in SIMULATION_MODES:
-        from common.errors import InputError
-
         raise InputError(
             f"expected simulation mode thread or process, got {asked!r}", key="simulation"
         )
@@ -170,12 +172,6 @@ class ChildLink:
     name, and the fault the window tells it of."""
 
     def __init__(self, block_name: str) -> None:
-        from paintapp.haptics.shared_state import (
-            SharedBlock,
-            SharedForceChannel,
-            SharedStateChannel,
-        )
-
         self.block = SharedBlock(block_name)
         self.forces = SharedForceChannel(self.block.force)
         self.states = SharedStateChannel(self.block.state)
@@ -185,9 +181,6 @@ class ChildLink:
 def child_main(spec: SimulationSpec, inbox: Connection, outbox: Connection) -> None:
     """The simulation process (see the module docstring)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C reaches the window; it stops us
-    from paintapp.app.journal import Journal
-    from paintapp.app.worker import SimulationWorker
-
     sender = _Sender(outbox)
     link = ChildLink(spec.servo_block) if spec.servo_block is not None else None
     worker = SimulationWorker(
