@@ -265,6 +265,7 @@ SUMMARY = (
     ("worker CPU per paint step, headless (ms)", "{:.1f}"),
     ("frame rate", "{:.1f}"),
     ("servo tick cost p50 (us)", "{:.0f}"),
+    ("app's longest silence (ms)", "{:.0f}"),
     ("host CPU steal, window run", "{:.1%}"),
     ("host CPU steal peak, window run", "{:.1%}"),
     ("host CPU steal, headless run", "{:.1%}"),
@@ -381,6 +382,10 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
                   f"{audit.get('nonfinite_writes', 0):.0f}, over the limit "
                   f"{audit.get('over_limit_writes', 0):.0f}")  # fmt: skip
             figures["servo audit"] = audit
+            silence = audit.get("longest_app_silence_s", 0.0)
+            print(f"app's longest silence {1e3 * silence:.0f} ms (the servo process's longest "
+                  "wait for a heartbeat)")  # fmt: skip
+            figures["app's longest silence (ms)"] = 1e3 * silence
     if args.screenshot is not None:
         win.grab().save(str(args.screenshot))
         print(f"wrote {args.screenshot}")

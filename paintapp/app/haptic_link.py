@@ -166,6 +166,9 @@ class HapticLink:
         force_scale: the initial force scale.
         target: the simulated hand's target (``sim`` only; thread form).
         mode: "process" or "thread".
+        armed: the servo process's heartbeat watchdog counts from the start; False: from
+            :meth:`arm` (a window arms it once its first frame is drawn: the first frame's shader
+            compiles hold the interpreter lock, and with it the heartbeat, for seconds).
     """
 
     def __init__(
@@ -175,6 +178,7 @@ class HapticLink:
         force_scale: float = 4.0,
         target: PointerTarget | None = None,
         mode: str = "process",
+        armed: bool = True,
     ) -> None:
         if mode not in ("process", "thread"):
             raise InputError(f"expected servo mode process or thread, got {mode!r}", key="servo")
@@ -186,7 +190,8 @@ class HapticLink:
         self.loop: ServoLoop | None = None
         self.report: ServoReport | None = None
         if mode == "process":
-            self.process = ServoProcess(ProcessOptions(device=device_text(spec), config=config))
+            options = ProcessOptions(device=device_text(spec), config=config, arm_at_start=armed)
+            self.process = ServoProcess(options)
             self.target = PointerTarget(sink=self.process.target.set_position)
             self.forces: ForceChannel = self.process.forces
             self.states: StateChannel = self.process.states
@@ -207,6 +212,12 @@ class HapticLink:
             self.granted = self.process.granted
         elif self.loop is not None:
             self.loop.start(self.clock)
+
+    def arm(self) -> None:
+        """The app is up: the servo process's heartbeat watchdog counts from now (the thread
+        form has none)."""
+        if self.process is not None:
+            self.process.arm()
 
     def stop(self) -> ServoReport | None:
         """Stop the loop and close the device (zero force); the final report (kept, so a second

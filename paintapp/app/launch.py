@@ -90,7 +90,8 @@ def start_link(options: PaintOptions):
 
     scale = options.settings.force_scale
     if options.servo == "process":
-        link = HapticLink(options.device, None, scale, mode="process")
+        # the window arms the heartbeat watchdog once its first frame is drawn
+        link = HapticLink(options.device, None, scale, mode="process", armed=False)
         try:
             link.start()
             return link

@@ -221,6 +221,8 @@ class PaintWindow(QMainWindow):
     def _frame_tick(self) -> None:
         self.canvas_widget.refresh()
         self._frame += 1
+        if self._frame == 1 and self.link is not None:
+            self.link.arm()  # start-up (GL context, shader compiles) is over
         if self._frame % HUD_EVERY_FRAMES == 0:
             self.hud.refresh()
             if self.help.isVisible():

@@ -17,7 +17,11 @@ report) come back up a pipe.
 Fail-safe exits:
 
 - the app dies (its pid is no longer the child's parent) or stops beating for
-  ``heartbeat_timeout_s``: no more force samples arrive, so the fluid watchdog has already faded
+  ``heartbeat_timeout_s`` once it has armed the watchdog (at once, or, with ``arm_at_start``
+  False, when :meth:`ServoProcess.arm` says its start-up is over: the painting window's first
+  frame compiles its shaders while holding the interpreter lock, 4.7 s on a cold shader cache,
+  and no heartbeat can run meanwhile; unarmed after ``arm_timeout_s`` counts as gone too): no
+  more force samples arrive, so the fluid watchdog has already faded
   the fluid force; the canvas contact stays on while the whole output fades to zero over
   ``exit_fade_s``; then zero force is written, the device closed and the child exits;
 - a ``stop`` command or SIGTERM: the same fade, then exit;
@@ -83,7 +87,12 @@ class ProcessOptions:
         config: the servo loop's configuration.
         realtime: ask for real-time priority, a pinned core, GC off, locked memory.
         pin: pin to a core (with ``realtime``) when there are several.
-        heartbeat_timeout_s: the app counts as gone after this long without a heartbeat.
+        heartbeat_timeout_s: the app counts as gone after this long without a heartbeat (once
+            the watchdog is armed).
+        arm_at_start: the heartbeat watchdog counts from the start; False: from the app's
+            :meth:`ServoProcess.arm` (until then only the app's exit ends the child).
+        arm_timeout_s: with ``arm_at_start`` False, the app counts as gone if it has not armed
+            the watchdog this long after the child started.
         exit_fade_s: the whole output fades to zero over this time before the child exits.
         duration_s: stop by itself after this long (None: until told or orphaned).
         start_m: where the simulated hand starts (canvas frame, m).
@@ -96,6 +105,8 @@ class ProcessOptions:
     realtime: bool = True
     pin: bool = True
     heartbeat_timeout_s: float = 1.0
+    arm_at_start: bool = True
+    arm_timeout_s: float = 120.0
     exit_fade_s: float = 0.25
     duration_s: float | None = None
     start_m: tuple[float, float, float] = (0.0, 0.0, 0.005)
@@ -228,6 +239,7 @@ class _Host:
         self.parent_pid = parent_pid
         self.leaving: str | None = None
         self._last: float | None = None
+        self._started_s: float | None = None
 
     def leave(self, reason: str) -> None:
         """Fade the output out and stop (once)."""
@@ -243,13 +255,28 @@ class _Host:
         if index % COMMAND_EVERY == 0:
             self._poll_commands()
         if self.leaving is None:
-            if self.block.heartbeat_age_s() > self.options.heartbeat_timeout_s:
-                self.leave(f"no heartbeat from the app for {self.options.heartbeat_timeout_s:g} s")
-            elif index % PARENT_EVERY == 0 and os.getppid() != self.parent_pid:
-                self.leave("the app exited")
+            self._watch(index, t_s)
         if not keep:
             return False
         return not (self.leaving is not None and self.device.gain <= 0.0)
+
+    def _watch(self, index: int, t_s: float) -> None:
+        """The exit checks: the app's heartbeat (once armed) and its presence."""
+        block, options = self.block, self.options
+        if block.armed:
+            silence = block.heartbeat_age_s()
+            if silence > block.audit[7]:
+                block.audit[7] = silence
+            if silence > options.heartbeat_timeout_s:
+                self.leave(f"no heartbeat from the app for {options.heartbeat_timeout_s:g} s")
+                return
+        elif self._started_s is None:
+            self._started_s = t_s
+        elif t_s - self._started_s > options.arm_timeout_s:
+            self.leave(f"the app did not finish starting within {options.arm_timeout_s:g} s")
+            return
+        if index % PARENT_EVERY == 0 and os.getppid() != self.parent_pid:
+            self.leave("the app exited")
 
     def _poll_commands(self) -> None:
         while True:
@@ -348,6 +375,7 @@ class ServoProcess:
         self.states = SharedStateChannel(self.block.state)
         self.target = SharedTarget(self.block.target, self.options.start_m)
         self.target.set_position(self.options.start_m)
+        self.block.armed = self.options.arm_at_start
         self.granted = "not started"
         self.heavy_modules: list[str] = []
         self.report: ServoReport | None = None
@@ -412,6 +440,13 @@ class ServoProcess:
     def _beat_loop(self) -> None:
         while not self._beat_stop.wait(BEAT_S):
             self.beat()
+
+    def arm(self) -> None:
+        """The app's start-up is over: from now on the child counts the heartbeat's silence
+        (see :class:`ProcessOptions`; a no-op when already armed)."""
+        if not self._stopped:
+            self.block.beat()
+            self.block.armed = True
 
     def beat(self) -> None:
         """Tell the child the app is alive."""

@@ -44,9 +44,9 @@ TARGET_WIDTH = 6
 #: Ticks kept in the timing ring (2 s at 1 kHz).
 RING_TICKS = 2000
 #: Audit counters: writes, non-finite writes, over-limit writes, max |force|, max |torque|,
-#: last |force|, last |torque|, spare.
+#: last |force|, last |torque|, the app's longest silence since it armed the watchdog (s).
 AUDIT_WIDTH = 8
-#: Header int64 slots: magic, child pid, phase, spare.
+#: Header int64 slots: magic, child pid, phase, armed (the heartbeat watchdog counts).
 HEADER_INTS = 4
 MAGIC = 0x5345_5256_4F31  # "SERVO1"
 
@@ -202,6 +202,15 @@ class SharedBlock:
     def pid(self, value: int) -> None:
         self.header[1] = value
 
+    @property
+    def armed(self) -> bool:
+        """Whether the heartbeat watchdog counts (the app is up)."""
+        return bool(self.header[3])
+
+    @armed.setter
+    def armed(self, value: bool) -> None:
+        self.header[3] = int(value)
+
     # --- heartbeat ------------------------------------------------------------------------------
     def beat(self) -> None:
         """The app is alive (``time.monotonic``, the same clock in every process)."""
@@ -222,6 +231,7 @@ class SharedBlock:
             "max_torque_nm": a[4],
             "last_force_n": a[5],
             "last_torque_nm": a[6],
+            "longest_app_silence_s": a[7],
         }
 
     def close(self) -> None:

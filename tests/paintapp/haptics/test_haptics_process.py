@@ -104,6 +104,42 @@ def test_no_heartbeat_fades_out_and_exits(monkeypatch):
     assert servo.audit()["last_force_n"] == 0.0
 
 
+def test_the_heartbeat_watchdog_waits_for_the_app_to_arm_it():
+    """A start-up that holds the interpreter lock (and so the heartbeat) for longer than the
+    timeout does not end the child; once armed, the same silence does, and the audit keeps the
+    longest silence it saw after arming."""
+    options = ProcessOptions(device="sim:stroke", heartbeat_timeout_s=0.3, arm_at_start=False)
+    servo = ServoProcess(options, heartbeat=False)
+    try:
+        servo.start()
+        silent_from = time.monotonic()
+        assert not wait_for(lambda: not servo.alive, 1.5), "ended before it was armed"
+        assert time.monotonic() - silent_from > 1.0  # over three timeouts without a beat
+        assert servo.fault is None and servo.audit()["longest_app_silence_s"] == 0.0
+        servo.arm()
+        assert wait_for(lambda: not servo.alive, 30.0), "the armed servo process kept running"
+        assert "no heartbeat" in (servo.fault or "")
+    finally:
+        servo.stop()
+    audit = servo.audit()
+    assert_clean_writes(audit)
+    assert 0.3 <= audit["longest_app_silence_s"] < 1.0  # the armed silence, not the start-up's
+    assert audit["last_force_n"] == 0.0
+
+
+def test_an_app_that_never_arms_the_watchdog_counts_as_gone():
+    options = ProcessOptions(device="sim:stroke", arm_at_start=False, arm_timeout_s=0.5)
+    servo = ServoProcess(options)  # beating all along, but never armed
+    try:
+        servo.start()
+        assert wait_for(lambda: not servo.alive, 30.0), "the servo process kept running"
+        assert "did not finish starting within 0.5 s" in (servo.fault or ""), servo.fault
+    finally:
+        servo.stop()
+    assert_clean_writes(servo.audit())
+    assert servo.audit()["last_force_n"] == 0.0
+
+
 def test_sigkill_of_the_app_fades_to_zero_and_exits():
     """The app (a stand-in process) presses the hand into the canvas and publishes a fluid force,
     then is SIGKILLed: the orphaned servo process fades out, writes zero and exits."""
