@@ -70,20 +70,23 @@ def test_a_stroke_in_the_child_reaches_the_display_canvas_and_its_journal(tmp_pa
         sim.push(StylusSample(0.0, np.array([0.036, 0.024, 0.01]), 0.0))
         assert wait_for(lambda: sim.status.get().strokes == 1 and sim.idle.is_set(), 60.0)
         status = sim.status.get()
-        assert status.paint_steps > 5 and status.fault is None
+        assert status.paint_steps > 5 and status.fault is None, status
         with shared.lock:
             painted = shared.canvas.paint_m.sum(axis=0).copy()
         ys, xs = np.nonzero(painted > 1e-7)
-        assert len(xs) > 100
+        assert len(xs) > 100, status
         dx = shared.canvas.texel_size_m[0]
         assert np.all(np.abs((ys + 0.5) * dx - 0.024) < 2.0 * status.brush_radius_m + 0.002)
         sim.submit(actions.undo())
-        assert wait_for(lambda: sim.status.get().undo == 0, 60.0)
-        assert wait_for(lambda: float(shared.canvas.paint_m.sum()) == 0.0, 10.0)
+        assert wait_for(lambda: sim.status.get().undo == 0, 60.0), sim.status.get()
+        assert wait_for(lambda: float(shared.canvas.paint_m.sum()) == 0.0, 10.0), (
+            float(shared.canvas.paint_m.sum()),
+            sim.status.get(),
+        )
     finally:
         sim._down.close()  # the window's end goes away without a word
         sim._proc.join(30.0)
-    assert sim._proc.exitcode == 0
+    assert sim._proc.exitcode == 0, sim._proc.exitcode
     strokes = read_strokes(record)
     assert sum(1 for s in strokes.samples if s.pressure > 0) >= 5
 
