@@ -145,10 +145,20 @@ def freeze_startup_heap() -> int:
     return gc.get_freeze_count()
 
 
+def release_startup_heap() -> None:
+    """Undo :func:`freeze_startup_heap` once the window has closed: objects frozen in cycles
+    would outlive the interpreter's last collection, so the servo link's queues and shared memory
+    would be reported leaked by multiprocessing's resource tracker, and OpenImageIO's bindings
+    would print their leaked objects, at every exit."""
+    gc.unfreeze()
+    gc.collect()
+
+
 def run_paint(options: PaintOptions) -> int:
     """Run the app until its window closes; returns the exit status."""
     app, window = create_window(options)
     freeze_startup_heap()
     status = app.exec()
     window.deleteLater()
+    release_startup_heap()
     return int(status)

@@ -101,6 +101,8 @@ class SimulationWorker(threading.Thread):
     ) -> None:
         super().__init__(name="paint-simulation", daemon=True)
         self.live = canvas
+        canvas.take_dirty()  # the display canvas starts as a copy: nothing to publish yet (else
+        canvas.take_wet_dirty()  # a device's first step copies it all, and it counts as unsaved)
         self.shared = shared
         self.settings = settings
         self.pigments = pigments

@@ -292,6 +292,8 @@ def test_servo_process_steers_the_brush_and_its_death_is_survived(
         link.target.set(START_M[0], START_M[1], 0.0, False)
         assert pump(10.0, lambda: link.live()[2] > 100), link.live()
         assert "process" in win._servo_where()
+        pump(0.5)  # the worker steps the hovering hand: nothing painted, nothing to save
+        assert not win.document.unsaved and win.shared.version == 0
         link.target.set(START_M[0], START_M[1], 1.0, True)
         assert pump(30.0, lambda: win.worker.status.get().in_contact), "the hand never touched"
         for i in range(30):
