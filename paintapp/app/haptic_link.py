@@ -167,8 +167,9 @@ class HapticLink:
         target: the simulated hand's target (``sim`` only; thread form).
         mode: "process" or "thread".
         armed: the servo process's heartbeat watchdog counts from the start; False: from
-            :meth:`arm` (a window arms it once its first frame is drawn: the first frame's shader
-            compiles hold the interpreter lock, and with it the heartbeat, for seconds).
+            :meth:`arm` (a window arms it once its first frame is drawn and its simulation is
+            prepared: the first frame's shader compiles and, on a new installation, the kernels'
+            compilation hold the interpreter lock, and with it the heartbeat, for seconds).
     """
 
     def __init__(

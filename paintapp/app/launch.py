@@ -90,7 +90,7 @@ def start_link(options: PaintOptions):
 
     scale = options.settings.force_scale
     if options.servo == "process":
-        # the window arms the heartbeat watchdog once its first frame is drawn
+        # the window arms the heartbeat watchdog once its start-up is over
         link = HapticLink(options.device, None, scale, mode="process", armed=False)
         try:
             link.start()

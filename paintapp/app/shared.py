@@ -132,6 +132,7 @@ class WorkerStatus:
         paint_steps: paint steps so far.
         viscosity_pa_s: the paint's viscosity in the session's scene, Pa s.
         journal: the journal file being written ("" for none).
+        ready: the worker has prepared the simulation (:mod:`paintapp.app.warmup`).
     """
 
     sim_hz: float = 0.0
@@ -151,6 +152,7 @@ class WorkerStatus:
     paint_steps: int = 0
     viscosity_pa_s: float = 0.0
     journal: str = ""
+    ready: bool = False
 
 
 class StatusSlot(LatestValue[WorkerStatus]):

@@ -102,6 +102,7 @@ class PaintWindow(QMainWindow):
         self.recovery = Recovery(options.recovery_dir, library)
         self.pen_events = 0
         self._frame = 0
+        self._armed = False
         self._fault_seen = False
         self._slab_seq = 0
         self._build_widgets()
@@ -221,8 +222,11 @@ class PaintWindow(QMainWindow):
     def _frame_tick(self) -> None:
         self.canvas_widget.refresh()
         self._frame += 1
-        if self._frame == 1 and self.link is not None:
-            self.link.arm()  # start-up (GL context, shader compiles) is over
+        if not self._armed and self.link is not None and self.worker.status.get().ready:
+            # start-up is over: the first frame's shader compiles, the worker's warm-up (which
+            # compiles the kernels on a new installation) -- both hold the interpreter lock
+            self._armed = True
+            self.link.arm()
         if self._frame % HUD_EVERY_FRAMES == 0:
             self.hud.refresh()
             if self.help.isVisible():

@@ -49,6 +49,7 @@ from paintapp.app.settings import (
 )
 from paintapp.app.shared import AppClock, RateMeter, SharedCanvas, StatusSlot, WorkerStatus
 from paintapp.app.slab import MixingSlab
+from paintapp.app.warmup import warm_up
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
 from paintapp.haptics.channel import ForceChannel, LatestValue
@@ -65,6 +66,8 @@ TRAIL_SPACING = 0.5
 MAX_TRAIL_STEPS = 16
 #: Pause between passes with nothing to do, s.
 IDLE_S = 0.004
+#: A warm-up that took this long (s: the kernels were compiled, not loaded) stays in the HUD.
+PREPARE_NOTE_S = 5.0
 #: Pause between haptic samples while the brush is in the air, s.
 AIR_S = 0.01
 #: A stroke ends once the brush has been out of the paint this long (wall time, s), so a
@@ -136,6 +139,7 @@ class SimulationWorker(threading.Thread):
         self._step_ms = 0.0
         self.message = ""
         self._fault: str | None = None
+        self._ready = False
         self._radius = brush_radius_m(self.session.preset)
         self.journal.start(self.header())
         self.idle = threading.Event()
@@ -161,6 +165,7 @@ class SimulationWorker(threading.Thread):
     # --- the loop ------------------------------------------------------------------------------
     def run(self) -> None:
         try:
+            self._prepare()
             while not self._stop_event.is_set():
                 self._run_commands()
                 self._end_stroke_after_gap()
@@ -172,6 +177,25 @@ class SimulationWorker(threading.Thread):
             self.end_stroke()
             self._publish_status()
             self.journal.close()
+
+    def _prepare(self) -> None:
+        """Paint the warm-up stroke (:mod:`paintapp.app.warmup`) before the first real one;
+        the HUD says so while it runs, and how long it took when that was long."""
+        if self.pigments:
+            self.message = "preparing the simulation..."
+            self._publish_status()
+            try:
+                took = warm_up(
+                    self.session.preset, self.session.scene, self.live.texel_size_m,
+                    self.pigments[0], self.input_kind,
+                )  # fmt: skip
+            except Exception as exc:  # the real strokes will say what is wrong, or work
+                self.message = f"could not prepare the simulation: {type(exc).__name__}: {exc}"
+            else:
+                long = took >= PREPARE_NOTE_S
+                self.message = f"simulation prepared in {took:.0f} s" if long else ""
+        self._ready = True
+        self._publish_status()
 
     def _pass(self) -> bool:
         """One pass over the newest input; False when there was nothing to do."""
@@ -352,6 +376,7 @@ class SimulationWorker(threading.Thread):
             message=self.journal.error or self.message,
             paint_steps=self.session.stats.paint_steps,
             viscosity_pa_s=self.session.scene.viscosity_pa_s,
+            ready=self._ready,
             journal=str(self.journal.path or ""),
         )
         self.status.publish(status)

@@ -20,10 +20,10 @@ Fail-safe exits:
   ``heartbeat_timeout_s`` once it has armed the watchdog (at once, or, with ``arm_at_start``
   False, when :meth:`ServoProcess.arm` says its start-up is over: the painting window's first
   frame compiles its shaders while holding the interpreter lock, 4.7 s on a cold shader cache,
-  and no heartbeat can run meanwhile; unarmed after ``arm_timeout_s`` counts as gone too): no
-  more force samples arrive, so the fluid watchdog has already faded
-  the fluid force; the canvas contact stays on while the whole output fades to zero over
-  ``exit_fade_s``; then zero force is written, the device closed and the child exits;
+  and a new installation's first warm-up compiles the kernels, with stalls of half a second;
+  no heartbeat can run meanwhile; unarmed after ``arm_timeout_s`` counts as gone too): no more
+  force samples arrive, so the fluid watchdog has already faded the fluid force; the canvas
+  contact stays on while the whole output fades to zero over ``exit_fade_s``; then zero force is written, the device closed and the child exits;
 - a ``stop`` command or SIGTERM: the same fade, then exit;
 - the device fails: the loop stops with zero force as in a thread (the fault is sent up);
 - the child dies: :attr:`ServoProcess.fault` says so (the window journals it and paints on with
@@ -106,7 +106,7 @@ class ProcessOptions:
     pin: bool = True
     heartbeat_timeout_s: float = 1.0
     arm_at_start: bool = True
-    arm_timeout_s: float = 120.0
+    arm_timeout_s: float = 600.0
     exit_fade_s: float = 0.25
     duration_s: float | None = None
     start_m: tuple[float, float, float] = (0.0, 0.0, 0.005)

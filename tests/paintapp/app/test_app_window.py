@@ -285,9 +285,10 @@ def test_servo_process_steers_the_brush_and_its_death_is_survived(
     try:
         link = win.link
         assert link.mode == "process" and link.process.heavy_modules == []
-        # the heartbeat watchdog counts once the first frame (and its shader compiles) is done
-        assert pump(30.0, lambda: win.canvas_widget.frame_count > 0)
-        assert link.process.block.armed
+        # the heartbeat watchdog counts once the first frame (its shader compiles) is drawn and
+        # the simulation prepared (its warm-up)
+        assert pump(120.0, lambda: link.process.block.armed), win.worker.status.get()
+        assert win.canvas_widget.frame_count > 0 and win.worker.status.get().ready
         win.load_pigment("cadmium_red")
         link.target.set(START_M[0], START_M[1], 0.0, False)
         assert pump(10.0, lambda: link.live()[2] > 100), link.live()
