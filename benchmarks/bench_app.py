@@ -238,17 +238,20 @@ def main() -> None:
             os._exit(0)  # skip Qt's teardown: its display is gone
 
 
-def wait_until_ready(app, win, timeout_s: float = 30.0) -> None:
-    """Wait until the servo loop publishes the stylus and a frame has been drawn: a servo process
-    that starts late (a loaded machine) must not eat the timed stroke."""
+def wait_until_ready(app, win, timeout_s: float = 300.0) -> None:
+    """Wait until the servo loop publishes the stylus, a frame has been drawn and the simulation
+    is prepared (its warm-up stroke): a servo process that starts late (a loaded machine) or a
+    warm-up that compiles must not eat the timed stroke."""
     start = time.perf_counter()
     while time.perf_counter() - start < timeout_s:
         servo_up = win.link is None or win.link.states.latest()[1] is not None
-        if servo_up and win.canvas_widget.frame_count > 0:
+        ready = win.worker.status.get().ready
+        if servo_up and ready and win.canvas_widget.frame_count > 0:
             return
         app.processEvents()
         time.sleep(0.01)
-    print(f"warning: not ready after {timeout_s:.0f} s (servo or first frame); timing anyway")
+    print(f"warning: not ready after {timeout_s:.0f} s (servo, first frame or warm-up); timing "
+          "anyway")  # fmt: skip
 
 
 #: The figures the summary table shows, in its order, with their formats.
