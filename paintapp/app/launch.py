@@ -146,10 +146,9 @@ def freeze_startup_heap() -> int:
 
 
 def release_startup_heap() -> None:
-    """Undo :func:`freeze_startup_heap` once the window has closed: objects frozen in cycles
-    would outlive the interpreter's last collection, so the servo link's queues and shared memory
-    would be reported leaked by multiprocessing's resource tracker, and OpenImageIO's bindings
-    would print their leaked objects, at every exit."""
+    """Undo :func:`freeze_startup_heap` once the window has closed: frozen objects outlive the
+    interpreter's last collection, and OpenImageIO's bindings then print every instance, type and
+    function of theirs still alive as leaked, some 800 lines at every exit."""
     gc.unfreeze()
     gc.collect()
 
