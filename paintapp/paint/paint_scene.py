@@ -10,7 +10,8 @@ A scene file::
     [grid]
     cells = [32, 32, 12]            # 3D cells; depth_averaged uses the first two
     span = 2.0                      # the grid spans this many brush widths (sets the cell size)
-    margin_cells = 10               # re-centre once the tip is this close to a side
+    margin_cells = 15               # re-centre once the tip is this close to a side (15 of
+                                    # 32: every step, see the default scene)
     max_step_s = 0.05               # longest single solver step; longer gaps are split
 
     [paint]
@@ -121,7 +122,10 @@ class PaintScene:
         cells: (nx, ny, nz) cells of the 3D grid; the depth-averaged grid uses (nx, ny).
         span: lateral grid extent in brush widths; with the canvas texel size it sets the cell
             size (a whole number of texels, see :func:`paintapp.paint.columns.cell_texels`).
-        margin_cells: the grid re-centres when the tip is closer than this to a lateral side.
+        margin_cells: the grid re-centres when the tip is closer than this to a lateral side
+            (a scene file's default: half the grid less one, so every step; the grid's sides
+            are slip walls, and a tip whose leading face closes in on one between shifts pushes
+            a bow wave that prints a tooth in its trail at every shift).
         max_step_s: longest solver step, s; a longer gap between stylus samples is split.
         max_travel_cells: longest lateral travel of the tip in one step, cells; a longer move
             between samples is split into sub-steps, at most ``max_travel_substeps`` of them.
@@ -155,7 +159,7 @@ class PaintScene:
     fluid_model: str = "grid3d"
     cells: tuple[int, int, int] = (32, 32, 12)
     span: float = 2.0
-    margin_cells: int = 10
+    margin_cells: int = 15
     max_step_s: float = 0.05
     max_travel_cells: float = 2.0
     max_travel_substeps: int = 2
@@ -225,7 +229,9 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         fluid_model=model,
         cells=(cells[0], cells[1], cells[2]),
         span=grid.number("span", 2.0, minimum=1.0, maximum=8.0),
-        margin_cells=grid.integer("margin_cells", 10, minimum=0),
+        margin_cells=grid.integer(
+            "margin_cells", max(0, min(cells[0], cells[1]) // 2 - 1), minimum=0
+        ),
         max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),
         max_travel_cells=grid.number("max_travel_cells", 2.0, minimum=0.1, maximum=100.0),
         max_travel_substeps=grid.integer("max_travel_substeps", 2, minimum=1, maximum=64),

@@ -10,6 +10,14 @@ the larger of the three lines. Its *floor* is the same with each step's phases r
 amount (the median of :data:`DEALS` deals), which no tooth survives: what the path's own relief
 gives by chance.
 
+Teeth need not repeat at the step: anything that recurs every few steps along a stroke (a grid
+that re-centres on the tip every so many cells, a beat between a sub-step's travel and the cell)
+prints its own period. :func:`period_scan` folds the same three lines at every period from
+:data:`SCAN_MIN_TEXELS` texels to :data:`SCAN_STEPS` steps (chunks of one period along the path's
+arc length, :data:`PHASES` points each), with the same floor (each chunk's phase rolled at
+random); the period whose depth stands highest over its floor (refined between its scanned
+neighbours) is the stroke's worst.
+
 ``python -m paintapp.session.comb DIR [STROKES]`` prints both for every stroke of ``STROKES``
 (default: ``DIR/strokes.jsonl``, the strokes as ``paintapp demo`` placed them, else the bundled
 demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
@@ -34,6 +42,10 @@ END_STEPS = 2
 DEALS = 50
 #: Lateral offsets of the lines read, texels.
 OFFSETS_TEXELS = (-2.0, 0.0, 2.0)
+#: The period scan: shortest period (texels), longest (steps), ratio between scanned periods.
+SCAN_MIN_TEXELS = 3.0
+SCAN_STEPS = 4.0
+SCAN_RATIO = 1.02
 
 
 @dataclass(frozen=True)
@@ -76,10 +88,19 @@ def tooth_depth(
     a, along, length = a[keep], along[keep], length[keep]
     normal = np.stack([-along[:, 1], along[:, 0]], axis=1) / length[:, None]
     f = (np.arange(PHASES) + 0.5) / PHASES
+    points = a[:, None, :] + f[None, :, None] * along[:, None, :]
+    return _fold(height_m, points, np.broadcast_to(normal[:, None, :], points.shape), seed)
+
+
+def _fold(
+    height_m: np.ndarray, points: np.ndarray, normal: np.ndarray, seed: int
+) -> tuple[float, float]:
+    """(depth, floor) of the chunks ``points`` (chunks, PHASES, 2) texel index coordinates, read
+    on lines offset along ``normal`` (same shape) by :data:`OFFSETS_TEXELS`."""
     rng = np.random.default_rng(seed)
     worst, floor = 0.0, 0.0
     for off in OFFSETS_TEXELS:
-        xy = a[:, None, :] + f[None, :, None] * along[:, None, :] + off * normal[:, None, :]
+        xy = points + off * normal
         lines = map_coordinates(height_m, [xy[..., 1], xy[..., 0]], order=1, mode="nearest")
         mean = float(lines.mean())
         if mean <= 0.0:
@@ -94,6 +115,73 @@ def tooth_depth(
     if worst == 0.0:
         return float("nan"), float("nan")
     return worst, floor
+
+
+@dataclass(frozen=True)
+class PeriodDepth:
+    """The tooth depth and floor of a path folded at ``period_texels``."""
+
+    period_texels: float
+    depth: float
+    floor: float
+
+
+def period_depths(
+    height_m: np.ndarray, texel_m: float, points_m: np.ndarray, periods_texels: np.ndarray
+) -> list[PeriodDepth]:
+    """The tooth depth and floor of the path ``points_m`` (n, 2) m folded at each of
+    ``periods_texels`` along its arc length (module docstring); periods with fewer than four
+    whole chunks on the path (or a bare path) are left out."""
+    p = np.asarray(points_m, dtype=float) / texel_m - 0.5
+    p = p[END_STEPS : len(p) - END_STEPS]
+    if len(p) < 2:
+        return []
+    seg = np.diff(p, axis=0)
+    length = np.hypot(seg[:, 0], seg[:, 1])
+    keep = length > 1e-6
+    p = np.concatenate([p[:1], p[1:][keep]])
+    seg, length = seg[keep], length[keep]
+    arc = np.concatenate([[0.0], np.cumsum(length)])
+    if len(seg) == 0:
+        return []
+    normal = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / length[:, None]
+    out: list[PeriodDepth] = []
+    for period in np.asarray(periods_texels, dtype=float):
+        chunks = int(arc[-1] // period)
+        if chunks < 4:
+            continue
+        s = (np.arange(chunks * PHASES) + 0.5) * (period / PHASES)
+        xy = np.stack([np.interp(s, arc, p[:, 0]), np.interp(s, arc, p[:, 1])], axis=1)
+        which = np.clip(np.searchsorted(arc, s, side="right") - 1, 0, len(seg) - 1)
+        shape = (chunks, PHASES, 2)
+        depth, floor = _fold(height_m, xy.reshape(shape), normal[which].reshape(shape), 0)
+        if np.isfinite(depth):
+            out.append(PeriodDepth(float(period), depth, floor))
+    return out
+
+
+def scan_periods(step_texels: float) -> np.ndarray:
+    """The periods (texels) :func:`period_scan` folds at for a stroke of ``step_texels`` steps."""
+    top = max(SCAN_STEPS * step_texels, SCAN_MIN_TEXELS)
+    count = int(np.log(top / SCAN_MIN_TEXELS) / np.log(SCAN_RATIO)) + 1
+    return SCAN_MIN_TEXELS * SCAN_RATIO ** np.arange(count)
+
+
+def period_scan(height_m: np.ndarray, texel_m: float, points_m: np.ndarray) -> PeriodDepth | None:
+    """The period at which the path ``points_m`` (n, 2) m is most strongly combed: of
+    :func:`scan_periods` of its median step, the one with the largest depth over floor; None for
+    a path too short or bare."""
+    pts = np.asarray(points_m, dtype=float)
+    step = float(np.median(np.hypot(*np.diff(pts, axis=0).T))) / texel_m if len(pts) > 1 else 0.0
+    found = period_depths(height_m, texel_m, pts, scan_periods(step))
+    found = [d for d in found if d.floor > 0.0]
+    if not found:
+        return None
+    best = max(found, key=lambda d: d.depth / d.floor)
+    # the scan's periods are SCAN_RATIO apart: refine between the best one's neighbours
+    near = best.period_texels * SCAN_RATIO ** np.linspace(-1.0, 1.0, 21)
+    found = [d for d in period_depths(height_m, texel_m, pts, near) if d.floor > 0.0]
+    return max([best, *found], key=lambda d: d.depth / d.floor)
 
 
 def main(argv: list[str]) -> int:
@@ -117,13 +205,21 @@ def main(argv: list[str]) -> int:
         return 2
     texel = canvas.texel_size_m[0]
     height = canvas.height_m.astype(np.float64)
-    print(f"{'stroke':36s} step (texels)  tooth depth  floor")
+    print(f"{'stroke':32s} step (texels)  tooth depth  floor  worst period  depth  floor")
     for path in stroke_paths(strokes):
         seg = np.hypot(*np.diff(path.points_m, axis=0).T) / texel
         depth, floor = tooth_depth(height, texel, path.points_m)
-        print(f"{path.label[:36]:36s} {np.median(seg):13.2f}  {depth:11.3f}  {floor:5.3f}")
+        worst = period_scan(height, texel, path.points_m)
+        scan = (
+            f"{worst.period_texels:12.1f}  {worst.depth:5.3f}  {worst.floor:5.3f}"
+            if worst
+            else f"{'-':>12s}"
+        )
+        print(f"{path.label[:32]:32s} {np.median(seg):13.2f}  {depth:11.3f}  {floor:5.3f}  {scan}")
     print("tooth depth: peak-to-peak of the paint height over a step's phase (mean over the")
-    print("steps), over the mean height; floor: the same with each step's phase rolled at random")
+    print("steps), over the mean height; floor: the same with each step's phase rolled at random;")
+    print(f"worst period: of periods {SCAN_MIN_TEXELS:g} texels to {SCAN_STEPS:g} steps, the one")
+    print("whose depth stands highest over its floor")
     return 0
 
 

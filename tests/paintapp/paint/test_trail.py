@@ -13,6 +13,7 @@ from paintapp.paint.exchange import CellSpace, cell_caps, plough_weights
 from paintapp.paint.kernels import sweep_overlap
 from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.paint.trail import MIN_UPWIND_FLUID, lay_trail, paint_faces, vacated_share
+from paintapp.session.comb import period_depths, scan_periods
 from paintapp.session.painting import PaintingSession, paint_inventory
 from solver.faces import FLUID, FREE, STATIC_SOLID
 from solver.scalar_transport import transport
@@ -129,11 +130,16 @@ def test_the_plough_pushes_ahead_and_aside_not_into_the_trail():
 
 
 def scrape(
-    travel_cells: float | None = None, substeps: int | None = None, sweep: bool = True
+    travel_cells: float | None = None,
+    substeps: int | None = None,
+    sweep: bool = True,
+    margin_cells: int | None = None,
 ) -> np.ndarray:
     """Drag the square probe (one texel per cell) at 0.076 m/s through 0.5 mm of wet red: 5 cells
     of travel per 60 Hz sample. Returns the paint height along the trail's centre line."""
     scene = dataclasses.replace(load_paint_scene("default"), sweep=sweep)
+    if margin_cells is not None:
+        scene = dataclasses.replace(scene, margin_cells=margin_cells)
     if travel_cells is not None:
         scene = dataclasses.replace(
             scene, max_travel_cells=travel_cells, max_travel_substeps=substeps
@@ -159,23 +165,32 @@ def comb(profile: np.ndarray) -> tuple[float, float]:
 
 def test_a_fast_rigid_tip_leaves_a_trail_without_a_comb():
     """The probe's surface comes back to the same place in a cell once per sample: a voxelized,
-    closed tip printed that as a row of teeth (measured: roughness 0.24, comb 0.24)."""
+    closed tip printed that as a row of teeth (measured: roughness 0.24, comb 0.24). Measured
+    now: roughness 0.081 and comb 0.109 with the grid re-centred every step (the default),
+    0.171 and 0.112 with the old margin of 10 cells."""
     rough, teeth = comb(scrape())
     assert teeth < 0.15
-    assert rough < 0.2
+    assert rough < 0.12
 
 
 @pytest.mark.slow
 def test_a_third_of_a_cell_of_travel_per_step_smooths_the_trail_further():
-    rough, teeth = comb(scrape(5.0 / 16.0, 16))  # a sixteenth of a sample's travel per step
+    """Sub-steps of a third of a cell: roughness 0.040, comb 0.077 (measured, grid re-centred
+    only near its sides, so that the sub-steps alone are tested). With the default margin the
+    grid shifts one cell every 3.2 sub-steps, the same sub-steps of every sample, so its slip
+    walls' distance from the tip is a one-cell sawtooth at the sample period: roughness 0.038,
+    comb 0.118, about the default travel's 0.109 (measured)."""
+    rough, teeth = comb(scrape(5.0 / 16.0, 16, margin_cells=10))
     assert teeth < 0.1
     assert rough < 0.06
 
 
-def scrape_fine(sweep: bool) -> tuple[Canvas, PaintingSession]:
+def scrape_fine(sweep: bool, margin_cells: int | None = None) -> tuple[Canvas, PaintingSession]:
     """The probe dragged at 0.076 m/s through 0.5 mm of wet red on 0.1 mm texels (two texels per
     cell): 12.7 texels of travel per 60 Hz sample."""
     scene = dataclasses.replace(load_paint_scene("default"), sweep=sweep)
+    if margin_cells is not None:
+        scene = dataclasses.replace(scene, margin_cells=margin_cells)
     layer = np.zeros((1, 200, 560), np.float32)
     layer[0, 30:170, 20:540] = 5e-4
     wet = (layer[0] > 0).astype(np.float32)
@@ -210,3 +225,24 @@ def test_a_step_laid_along_the_path_the_tip_swept_leaves_no_comb():
         np.testing.assert_allclose(inventory, before, rtol=1e-5)  # the same paint either way
         assert canvas.paint_m.min() >= 0.0
     assert teeth[True] < 0.15 < teeth[False]
+
+
+def test_a_grid_that_re_centres_on_the_tip_every_step_prints_no_teeth_at_its_shifts():
+    """The paint grid's sides are slip walls; a grid that re-centres only once the tip nears a
+    side (the old margin, 10 of 32 cells) lets the tip's leading face close in on the wall ahead
+    between shifts, and the bow wave it pushes, and so the trail, repeats with the shifts (every
+    7-9 cells: 22 texels here, measured depth 1.06 against its floor 0.39). Re-centred every
+    step, the wall stays where it was: the deepest fold of the trail at any period up to two
+    samples' travel is 0.24 (floor 0.13)."""
+    path = np.array([[0.006 + 0.044 * s, 0.01] for s in np.linspace(0.1, 0.9, 30)])
+    periods = scan_periods(12.7)
+    periods = periods[periods < 26.0]  # up to two samples' travel: six chunks of the path or more
+    worst = {}
+    for margin in (10, None):
+        canvas, session = scrape_fine(True, margin)
+        height = canvas.height_m.astype(float)
+        found = period_depths(height, 1e-4, path, periods)
+        worst[margin] = max(found, key=lambda d: d.depth)
+    assert session.model.margin_cells == 15  # the default: every step
+    assert 15.0 < worst[10].period_texels < 26.0 and worst[10].depth > 0.8
+    assert worst[None].depth < 0.3

@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from paintapp.session.comb import main, stroke_paths, tooth_depth
+from paintapp.session.comb import (
+    main,
+    period_depths,
+    period_scan,
+    scan_periods,
+    stroke_paths,
+    tooth_depth,
+)
 from paintapp.strokes.files import read_strokes
 
 TEXEL = 2.5e-4
@@ -29,6 +36,31 @@ def test_teeth_one_per_step_are_measured_and_a_smooth_trail_stays_at_its_floor()
     assert smooth_depth < 2.0 * smooth_floor
     assert np.isnan(tooth_depth(np.zeros((100, 260)), TEXEL, path)[0])  # nothing painted
     assert np.isnan(tooth_depth(relief, TEXEL, straight_path(5.0, steps=5))[0])  # too short
+
+
+def test_the_period_scan_finds_teeth_that_recur_every_few_steps():
+    """Teeth every 1.6 steps (a grid re-centring every few cells prints such a period): the fold
+    at the step misses them, the scan finds them at their period; a smooth trail stays near its
+    floor at every period."""
+    path = straight_path(5.0, steps=60)
+    x = np.arange(340) + 0.5
+    rng = np.random.default_rng(2)
+    relief = 1.0 + 0.05 * rng.standard_normal((100, 340))
+    combed = relief + 0.1 * np.cos(2.0 * np.pi * (x - 20.0) / 8.0)[None, :]
+    step_depth, step_floor = tooth_depth(combed * 1e-4, TEXEL, path)
+    assert step_depth < 2.0 * step_floor  # at the step's own period: nothing
+    worst = period_scan(combed * 1e-4, TEXEL, path)
+    assert worst is not None
+    assert worst.period_texels == pytest.approx(8.0, rel=0.03)
+    assert worst.depth == pytest.approx(0.2, rel=0.15)
+    assert worst.floor < 0.3 * worst.depth
+    smooth = period_depths(relief * 1e-4, TEXEL, path, scan_periods(5.0))
+    assert len(smooth) > 30
+    # noise alone: each period's ratio is about 1, the largest of some 50 periods about 2
+    assert np.median([d.depth / d.floor for d in smooth]) < 1.3
+    assert max(d.depth / d.floor for d in smooth) < 2.5
+    assert period_scan(np.zeros((100, 340)), TEXEL, path) is None  # nothing painted
+    assert period_depths(relief, TEXEL, path, np.array([100.0])) == []  # under four periods
 
 
 def test_the_demo_strokes_split_at_their_markers(tmp_path, capsys):

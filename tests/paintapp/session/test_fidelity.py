@@ -54,6 +54,10 @@ def test_draft_and_high_change_the_knobs():
     draft, high = apply_fidelity(scene, "draft"), apply_fidelity(scene, "high")
     assert draft.cells == (24, 24, 9) and high.cells == (48, 48, 18)
     assert draft.margin_cells < scene.margin_cells < high.margin_cells
+    # the default grid re-centres on the tip at every step, and so does each fidelity's
+    assert [s.margin_cells for s in (draft, scene, high)] == [11, 15, 23]
+    thin = dataclasses.replace(scene, margin_cells=8)  # a scene that re-centres less often
+    assert apply_fidelity(thin, "high").margin_cells == 12
     assert draft.solver.pressure_tolerance > scene.solver.pressure_tolerance
     assert high.solver.pressure_tolerance < scene.solver.pressure_tolerance
     assert high.solver.viscosity_tolerance < scene.solver.viscosity_tolerance
