@@ -246,3 +246,27 @@ def test_a_grid_that_re_centres_on_the_tip_every_step_prints_no_teeth_at_its_shi
     assert session.model.margin_cells == 15  # the default: every step
     assert 15.0 < worst[10].period_texels < 26.0 and worst[10].depth > 0.8
     assert worst[None].depth < 0.3
+
+
+@pytest.mark.parametrize("brush", ["round_small", "square_probe"])
+def test_a_glaze_through_wet_paint_leaves_no_lines_along_the_window_s_edges(brush):
+    """The depth-averaged grid's sides were open, with a one-column halo of canvas taking and
+    giving the paint that crossed them; fluid drawn in behind the tip drained the halo, which
+    was left behind as a thin line along each edge of the window (measured: 90 µm of 100 with
+    the small round brush, 2 µm with the probe). With free-slip sides the layer beyond the
+    stroke's reach keeps its thickness, and the paint is conserved."""
+    scene = load_paint_scene("thin_glaze")
+    layer = np.zeros((1, 200, 560), np.float32)
+    layer[0, 10:190, 20:540] = 1e-4
+    wet = (layer[0] > 0).astype(np.float32)
+    canvas = Canvas((560, 200), (0.056, 0.02), (RED,), layer, wet)
+    session = PaintingSession(canvas, brush, scene)
+    before = paint_inventory(canvas, session.reservoir)[RED]
+    for sample in stroke_samples(StrokeSpec((0.006, 0.01), (0.05, 0.01), 0.044 / 0.076, 1.0), 0.0):
+        session.sample(sample)
+    assert session.model.margin_cells == 23  # re-centred every step
+    across = canvas.height_m[:, 250:450].astype(float).mean(axis=1)  # the track along row 100
+    beyond = np.r_[15:60, 141:185]  # 4-8.5 mm from the track: past its ridges, inside the layer
+    np.testing.assert_allclose(across[beyond], 1e-4, rtol=0.02)
+    after = paint_inventory(canvas, session.reservoir)[RED]
+    np.testing.assert_allclose(after, before, rtol=1e-6)
