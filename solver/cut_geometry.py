@@ -288,6 +288,38 @@ class CutGeometry:
                          self.owner_face, self.owner_sample)  # fmt: skip
         self.windows = []
 
+    def shift(self, offset: tuple[int, int, int], cells: tuple[int, int, int]) -> bool:
+        """Move the geometry with a grid of ``cells`` that moved by whole cells ``offset``
+        (``new[i] = old[i + offset]``), the probes standing still: every array moved in place,
+        what enters the grid empty (no probe), the windows moved with it. The same geometry an
+        :meth:`update` on the moved grid computes, to round-off in the distances (the nodes are
+        the same points), at a fraction of its cost. Returns False, changing nothing, when a
+        window touches a side it moves across or would leave the grid (the geometry beyond
+        the old grid is not known): an :meth:`update` is needed then."""
+        off = np.asarray(offset, dtype=np.int64)
+        n = np.asarray(cells, dtype=np.int64)
+        moved = []
+        for lo, hi in self.windows:
+            new_lo, new_hi = lo - off, hi - off
+            across = off != 0
+            if (across & ((lo <= 0) | (hi >= n))).any() or (new_lo < 0).any() or (new_hi > n).any():
+                return False
+            moved.append((new_lo, new_hi))
+        for a, fill in (
+            (self.phi_node, FAR),
+            (self.owner_node, -1),
+            (self.fluid_frac, 1.0),
+            (self.phi_cell, FAR),
+            (self.owner_cell, -1),
+            *((f, FAR) for f in self.phi_face),
+            *((f, 1.0) for f in self.open_frac),
+            *((f, -1) for f in self.owner_face),
+            *((f, -1) for f in self.owner_sample),
+        ):
+            _shift_in_place(a, off, fill)
+        self.windows = moved
+        return True
+
     def update(self, grid: Grid, probes: list[Probe], corner_radius_m: float = 0.0) -> None:
         """Recompute the geometry around every probe (and clear it where probes have left), box
         probes with their corners rounded by ``corner_radius_m``."""
@@ -309,6 +341,31 @@ class CutGeometry:
                                self.open_frac[a], self.owner_face[a], layers)  # fmt: skip
             wx, wy, wz = self.open_frac
             fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)
+
+
+@njit(cache=True, nogil=True)
+def _shift_kernel(a, oi, oj, ok, fill):
+    """``a[i, j, k] = a[i + oi, j + oj, k + ok]`` in place, ``fill`` where that is outside ``a``.
+    Each axis runs in the direction that reads every source before it is overwritten."""
+    nx, ny, nz = a.shape
+    for ii in range(nx):
+        i = ii if oi >= 0 else nx - 1 - ii
+        si = i + oi
+        for jj in range(ny):
+            j = jj if oj >= 0 else ny - 1 - jj
+            sj = j + oj
+            for kk in range(nz):
+                k = kk if ok >= 0 else nz - 1 - kk
+                sk = k + ok
+                if 0 <= si < nx and 0 <= sj < ny and 0 <= sk < nz:
+                    a[i, j, k] = a[si, sj, sk]
+                else:
+                    a[i, j, k] = fill
+
+
+def _shift_in_place(a: np.ndarray, off: np.ndarray, fill: float) -> None:
+    """``a`` moved by whole cells in place, ``new[i] = old[i + off]``, ``fill`` where it enters."""
+    _shift_kernel(a, int(off[0]), int(off[1]), int(off[2]), a.dtype.type(fill))
 
 
 def probe_window(grid: Grid, probe: Probe, margin: int = 2) -> tuple[np.ndarray, np.ndarray]:

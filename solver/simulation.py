@@ -446,7 +446,13 @@ class Simulation:
         st.comps = [_shifted(q, off) for q in st.comps]
         st.pressure = _shifted(st.pressure, off)
         self._was_active = _shifted(self._was_active, off)
-        self._rasterize()
+        if self.cut is not None and self.cut.shift((off[0], off[1], off[2]), g.cells):
+            # the probes stood still: their geometry moves with the grid (no new distances)
+            self._rigid, ref = self._rigid_and_reference()
+            self._motion = (self._rigid[0], self._rigid[1], self._rigid[2], ref)
+            label_cells(st.label, self._static_label, self.static_solid, self.cut.owner_cell, True)
+        else:
+            self._rasterize()
         self._apply_boundaries(relax=False)
 
     # -- geometry and boundaries -------------------------------------------------------------
