@@ -106,10 +106,9 @@ def apply_fidelity(scene: PaintScene, fidelity: str | Fidelity) -> PaintScene:
         raise InputError(
             f"fidelity {f.name!r} would give {cells} cells, more than {MAX_CELLS}", key="fidelity"
         )
+    widest = min(cells[0], cells[1]) // 2 - 1
     every_step = scene.margin_cells >= min(nx, ny) // 2 - 1  # re-centred at every step: stays so
-    margin = _scaled(scene.margin_cells, f.cell_scale, 0)
-    margin = min(cells[0], cells[1]) // 2 - 1 if every_step else margin
-    margin = min(margin, min(cells[0], cells[1]) // 2 - 1)
+    margin = widest if every_step else min(_scaled(scene.margin_cells, f.cell_scale, 0), widest)
     s = scene.solver
     solver = replace(
         s,

@@ -196,7 +196,11 @@ class PaintScene:
                 key="grid.cells",
             )
         if not 0 <= self.margin_cells < min(nx, ny) // 2:
-            raise InputError("expected 0 <= margin_cells < half the grid", key="grid.margin_cells")
+            raise InputError(
+                f"expected 0 <= margin_cells < half the grid ({min(nx, ny) // 2}), "
+                f"got {self.margin_cells}",
+                key="grid.margin_cells",
+            )
 
     @property
     def air_viscosity_pa_s(self) -> float:
