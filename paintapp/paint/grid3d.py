@@ -3,8 +3,10 @@
 Geometry: ``scene.cells`` (or fewer, ``cells``: a grid fitted to the brush) cubes of edge ``h`` (a whole number of canvas texels, the grid spanning
 ``scene.span`` brush widths); the bottom face is the canvas plane ``z = 0``. Sides: the canvas
 (``z_min``) is a no-slip wall; the four lateral sides are free-slip walls (the paint around the
-window is at rest); the top (``z_max``) is open (zero pressure), so the tip can push down into the
-box and fluid can leave and enter above the paint. Columns not wholly on the canvas are solid.
+window is at rest), or with the scene's ``sides = "open"`` open (zero pressure), the paint that
+crosses them traded with a band of canvas beyond (:mod:`paintapp.paint.far_field`); the top
+(``z_max``) is open, so the tip can push down into the box and fluid can leave and enter above
+the paint. Columns not wholly on the canvas are solid.
 
 Fluid: one incompressible fluid of the paint's density whose dynamic viscosity varies by cell,
 ``mu = mu_air + phi (mu_paint - mu_air)`` with ``phi`` the cell's paint fraction
@@ -27,6 +29,7 @@ import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from paintapp.canvas.model import Canvas
+from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.exchange import (
     CellSpace,
     ExchangeReport,
@@ -34,6 +37,7 @@ from paintapp.paint.exchange import (
     deposit_volume,
     exchange_with_brush,
 )
+from paintapp.paint.far_field import band_change, padded_transport, side_faces
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.paint_scene import PaintScene
@@ -47,14 +51,16 @@ from solver.scalar_transport import transport
 from solver.simulation import Fluid, Simulation
 
 PROBE = "brush"
-SIDES = {
-    "x_min": Side("slip"),
-    "x_max": Side("slip"),
-    "y_min": Side("slip"),
-    "y_max": Side("slip"),
-    "z_min": Side("wall"),
-    "z_max": Side("outflow"),
-}
+LATERAL = ("x_min", "x_max", "y_min", "y_max")
+#: The grid's sides with slip lateral walls (see the module docstring).
+SIDES = {**{name: Side("slip") for name in LATERAL}, "z_min": Side("wall"), "z_max": Side("outflow")}
+
+
+def grid_sides(open_sides: bool) -> dict[str, Side]:
+    """The grid's sides: :data:`SIDES`, or with its lateral sides open (``outflow``)."""
+    if not open_sides:
+        return dict(SIDES)
+    return {**SIDES, **{name: Side("outflow") for name in LATERAL}}
 
 
 def pressed_centre(pose: TipPose, centre_m: np.ndarray) -> np.ndarray:
@@ -94,6 +100,17 @@ class PaintGrid3D(PaintModel):
         )
         self.sim: Simulation | None = None
         self.probe: Probe | None = None
+        #: Width of the far-field band beyond each open side (0: slip sides).
+        self.far = scene.far_field_cells if scene.sides == "open" else 0
+        w, b = self.window, self.far
+        self.outer = ColumnWindow(canvas, (w.cells[0] + 2 * b, w.cells[1] + 2 * b), w.k, w.kernel)
+
+    def band_columns(self) -> np.ndarray:
+        """Wet paint per column under the window and, with open sides, the band around it:
+        (P, nx + 2 b, ny + 2 b) metres for a band of ``b`` columns."""
+        o, k, b = self.window.origin_texel, self.window.k, self.far
+        self.outer.origin_texel = (o[0] - b * k, o[1] - b * k)
+        return self.outer.gather(self.canvas)
 
     def _grid(self) -> Grid:
         ox, oy = self.window.origin_m
@@ -110,7 +127,7 @@ class PaintGrid3D(PaintModel):
         self.sim = Simulation(
             grid,
             Fluid(s.density_kg_m3, s.viscosity_pa_s / s.density_kg_m3),
-            DomainBoundary(grid, dict(SIDES)),
+            DomainBoundary(grid, grid_sides(self.far > 0)),
             [probe],
             self.solver_settings(),
         )
@@ -131,7 +148,9 @@ class PaintGrid3D(PaintModel):
         assert self.sim is not None and self.probe is not None
         clock = PhaseTimer()
         sim, probe, h = self.sim, self.probe, self.cell_size_m
-        all_columns = self.wet_columns()
+        b, nx, ny = self.far, self.cells[0], self.cells[1]
+        outer = self.band_columns()
+        all_columns = outer[:, b : b + nx, b : b + ny]
         used = self.used_channels(all_columns, reservoir)
         columns = all_columns[used]
         q = np.zeros((len(used), *self.cells))
@@ -146,6 +165,7 @@ class PaintGrid3D(PaintModel):
             None if sim.cut is None else sim.cut.fluid_frac.copy(),
         )
         clock.mark("read")
+        band = np.zeros((len(used), *outer.shape[1:]))  # the far field's change
         sim.settings = self.step_settings()
         try:
             sim.step(dt_s)
@@ -159,16 +179,17 @@ class PaintGrid3D(PaintModel):
                 if not all(np.isfinite(f).all() for f in flow):
                     raise FloatingPointError("non-finite velocity in the paint grid")
             else:
-                substeps = self._transport(q, dt_s, space, *before_step)
+                substeps = self._transport(q, dt_s, space, outer[used], band, *before_step)
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)  # a blown-up step: drop it, start the fluid again at rest
             return PaintStep(step_ms=clock.total_ms)
-        delta = np.zeros_like(all_columns)
-        delta[used] = (q - before).sum(axis=3) * h
+        delta = np.zeros_like(outer)
+        delta[used] = band
+        delta[used, b : b + nx, b : b + ny] += (q - before).sum(axis=3) * h
         texture = self.texture(pose, centre_m)
-        self.window.write_back(self.canvas, delta, texture, gathered=all_columns,
-                               sweep_texels=self.sweep_texels())  # fmt: skip
+        self.outer.write_back(self.canvas, delta, texture, gathered=outer,
+                              sweep_texels=self.sweep_texels())  # fmt: skip
         if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
             try:
                 substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, texture)
@@ -199,19 +220,31 @@ class PaintGrid3D(PaintModel):
         q: np.ndarray,
         dt_s: float,
         space: CellSpace,
+        outer: np.ndarray,
+        band: np.ndarray,
         label_before: np.ndarray,
         fluid_before: np.ndarray | None,
     ) -> int:
         """Move the paint with the step's velocity through the faces' open parts, then lay what
         piled up against the tip in the room it vacated (:mod:`paintapp.paint.trail`); returns
-        the transport's sub-steps. ``space`` holds this step's cell capacities."""
+        the transport's sub-steps. ``space`` holds this step's cell capacities. With open sides,
+        ``outer`` is the wet paint per column of the window and its far-field band (the used
+        channels), and ``band`` receives the band's change (:mod:`paintapp.paint.far_field`)."""
         assert self.sim is not None
         sim = self.sim
         label, cut = sim.state.label, sim.cut
         open_frac = None if cut is None else cut.open_frac
         fluid = None if cut is None else cut.fluid_frac
         vel, types = paint_faces(sim.state.comps, sim.state.face_types, label, open_frac, fluid)
-        substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s)
+        if self.far == 0:
+            substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s)
+        else:
+            b = self.far
+            on_canvas = self.outer.on_canvas()
+            faces = side_faces(sim.state.comps, sim.state.face_types, open_frac, on_canvas, b)
+            ring = outer[:, b - 1 : outer.shape[1] - b + 1, b - 1 : outer.shape[2] - b + 1]
+            substeps, gains = padded_transport(q, vel, types, *faces, ring, self.cell_size_m, dt_s)
+            band += band_change(gains, outer, on_canvas, b)
         share = vacated_share(label_before, label, fluid_before, fluid)
         lay_trail(q, label, share, space)
         return substeps

@@ -12,6 +12,8 @@ A scene file::
     span = 2.0                      # the grid spans this many brush widths (sets the cell size)
     margin_cells = 15               # re-centre once the tip is this close to a side (15 of
                                     # 32: every step, see the default scene)
+    sides = "slip"                  # grid3d's lateral sides: "slip" walls, or "open" with the
+    far_field_cells = 8             # paint through them laid on a band this many columns wide
     max_step_s = 0.05               # longest single solver step; longer gaps are split
 
     [paint]
@@ -63,6 +65,9 @@ from solver.solver_settings import SolverSettings
 #: Kernels that trade paint between the grid's columns and the canvas texels
 #: (:func:`paintapp.paint.columns.transfer_weights`).
 TRANSFER_KERNELS = ("bspline", "tent")
+
+#: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
+SIDE_KINDS = ("slip", "open")
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
@@ -127,6 +132,11 @@ class PaintScene:
             are slip walls, and a tip whose leading face closes in on one between shifts pushes
             a bow wave that prints a tooth in its trail at every shift).
         max_step_s: longest solver step, s; a longer gap between stylus samples is split.
+        sides: the 3D grid's lateral sides: ``"slip"`` walls (the paint round the window at
+            rest), or ``"open"`` (zero pressure; the paint that crosses them is laid on, or taken
+            from, a band of ``far_field_cells`` canvas columns beyond each side,
+            :mod:`paintapp.paint.far_field`).
+        far_field_cells: width of that band, columns (``sides = "open"`` only).
         max_travel_cells: longest lateral travel of the tip in one step, cells; a longer move
             between samples is split into sub-steps, at most ``max_travel_substeps`` of them.
         max_travel_substeps: the most sub-steps a move's travel adds (a live session that falls
@@ -160,6 +170,8 @@ class PaintScene:
     cells: tuple[int, int, int] = (32, 32, 12)
     span: float = 2.0
     margin_cells: int = 15
+    sides: str = "slip"
+    far_field_cells: int = 8
     max_step_s: float = 0.05
     max_travel_cells: float = 2.0
     max_travel_substeps: int = 2
@@ -201,6 +213,22 @@ class PaintScene:
                 f"got {self.margin_cells}",
                 key="grid.margin_cells",
             )
+        if self.sides not in SIDE_KINDS:
+            raise InputError(
+                f"expected one of {', '.join(SIDE_KINDS)}, got {self.sides!r}", key="grid.sides"
+            )
+        if self.sides == "open" and self.texel_flow:
+            raise InputError(
+                "expected sides = \"slip\" with texel_flow = true (the texels' flow has no open "
+                "sides)",
+                key="grid.sides",
+            )
+        if not 1 <= self.far_field_cells <= max(nx, ny):
+            raise InputError(
+                f"expected 1 <= far_field_cells <= the grid's cells ({max(nx, ny)}), "
+                f"got {self.far_field_cells}",
+                key="grid.far_field_cells",
+            )
 
     @property
     def air_viscosity_pa_s(self) -> float:
@@ -236,6 +264,8 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         margin_cells=grid.integer(
             "margin_cells", max(0, min(cells[0], cells[1]) // 2 - 1), minimum=0
         ),
+        sides=grid.string("sides", "slip", choices=list(SIDE_KINDS)),
+        far_field_cells=grid.integer("far_field_cells", 8, minimum=1),
         max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),
         max_travel_cells=grid.number("max_travel_cells", 2.0, minimum=0.1, maximum=100.0),
         max_travel_substeps=grid.integer("max_travel_substeps", 2, minimum=1, maximum=64),
