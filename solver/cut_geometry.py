@@ -19,12 +19,8 @@ face and cell centres taking the mean of their corners). From the node values:
   pressure matrix: a sliver of a face between a probe and a wall would otherwise carry the
   probe's whole displaced volume, hundreds of m/s, into the flow; a cell whose faces are all
   closed leaves the pressure system);
-* the **fluid fraction** of every cell (2D: the square rule on its corners; 3D: the cube cut by
-  the plane fitted to its eight corners, exact where the surface through it is a plane, wherever
-  the plane falls in the cell; the mean of its six faces' open fractions, used before, gave
-  ``(4 f + 1) / 6`` for a face leaving ``f`` of the cell outside, and a grid-aligned box's volume
-  changed by 7.4 % as it slid through the cells, now 0.9 %: its edges and corners). Only the
-  paint's cells read it (their room beside a tip, the room a moving tip vacates);
+* the **fluid fraction** of every cell (2D: the square rule on its corners; 3D: the mean of its
+  six faces' open fractions);
 * the probe that owns each face's solid part (the nearest surface), whose rigid velocity enters
   there.
 
@@ -124,79 +120,6 @@ def fraction_inside_square(c0, c1, c2, c3):
     return a
 
 
-#: A plane's normal component below this share of the sum of its components counts as zero in
-#: :func:`fraction_below_plane` (the inclusion-exclusion sums cancel ever more digits as one
-#: shrinks; dropping it moves the volume by less than half this share of a cell).
-FLAT_SHARE = 1e-3
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _ramp(x, power):
-    """``max(x, 0) ** power``."""
-    return x**power if x > 0.0 else 0.0
-
-
-@njit(cache=True, nogil=True)
-def fraction_below_plane(m0, m1, m2, alpha):
-    """Volume fraction of the unit cube where ``m0 x + m1 y + m2 z < alpha`` (``m_i >= 0``).
-
-    With the components scaled to sum to 1 and sorted, the ``d`` of them that are not flat
-    (:data:`FLAT_SHARE`) give the exact inclusion-exclusion sum over the corners ``c`` of the
-    ``d``-cube, ``sum (-1)^|c| (a - m.c)_+^d / (d! prod m)``; above half the cube it is taken as
-    one less the complement's (the same sum, fewer terms, less cancellation)."""
-    total = m0 + m1 + m2
-    if total <= 0.0:
-        return 1.0 if alpha > 0.0 else 0.0
-    a = alpha / total
-    if a <= 0.0:
-        return 0.0
-    if a >= 1.0:
-        return 1.0
-    flip = a > 0.5
-    if flip:
-        a = 1.0 - a
-    x, y, z = m0 / total, m1 / total, m2 / total
-    if x < y:
-        x, y = y, x
-    if y < z:
-        y, z = z, y
-    if x < y:
-        x, y = y, x
-    if y < FLAT_SHARE:
-        v = a / x
-    elif z < FLAT_SHARE:
-        v = (a * a - _ramp(a - x, 2) - _ramp(a - y, 2) + _ramp(a - x - y, 2)) / (2.0 * x * y)
-    else:
-        v = a**3 - _ramp(a - x, 3) - _ramp(a - y, 3) - _ramp(a - z, 3)
-        v += _ramp(a - x - y, 3) + _ramp(a - x - z, 3) + _ramp(a - y - z, 3)
-        v = (v - _ramp(a - x - y - z, 3)) / (6.0 * x * y * z)
-    v = min(max(v, 0.0), 1.0)
-    return 1.0 - v if flip else v
-
-
-@njit(cache=True, nogil=True)
-def fraction_inside_cube(c000, c100, c010, c110, c001, c101, c011, c111):
-    """Fraction of a cube inside (SDF < 0) from the SDF at its corners (``c_xyz``, corner
-    ``(x, y, z)`` of the unit cube): the cube cut by the plane that fits them (their mean at the
-    centre, each axis's mean difference across the cube as the slope), so exact wherever the
-    surface is a plane through the cube, at any position within it (the mean of the six faces'
-    open fractions gave ``(4 f + 1) / 6`` for a face-aligned plane leaving ``f`` of the cell
-    outside, its error changing with where the plane falls in the cell). A cube whose corners
-    are all outside (or all inside) counts as wholly outside (inside)."""
-    lo = min(c000, c100, c010, c110, c001, c101, c011, c111)
-    hi = max(c000, c100, c010, c110, c001, c101, c011, c111)
-    if lo >= 0.0:
-        return 0.0
-    if hi < 0.0:
-        return 1.0
-    d0 = 0.125 * (c000 + c100 + c010 + c110 + c001 + c101 + c011 + c111)
-    gx = 0.25 * (c100 - c000 + c110 - c010 + c101 - c001 + c111 - c011)
-    gy = 0.25 * (c010 - c000 + c110 - c100 + c011 - c001 + c111 - c101)
-    gz = 0.25 * (c001 - c000 + c101 - c100 + c011 - c010 + c111 - c110)
-    mx, my, mz = abs(gx), abs(gy), abs(gz)
-    return fraction_below_plane(mx, my, mz, 0.5 * (mx + my + mz) - d0)
-
-
 @njit(cache=True, nogil=True)
 def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner, layers):
     """Open fraction and solid owner of the faces of component ``axis`` in the window
@@ -253,9 +176,8 @@ def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner,
 
 
 @njit(cache=True, nogil=True)
-def fluid_fractions(phi_node, dim, lo, hi, out):
-    """Fluid volume fraction of the cells in the window ``lo <= (i, j, k) < hi`` (module
-    docstring)."""
+def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
+    """Fluid volume fraction of the cells in the window ``lo <= (i, j, k) < hi``."""
     for i in range(lo[0], hi[0]):
         for j in range(lo[1], hi[1]):
             for k in range(lo[2], hi[2]):
@@ -265,12 +187,9 @@ def fluid_fractions(phi_node, dim, lo, hi, out):
                         phi_node[i, j + 1, 0],
                     )  # fmt: skip
                 else:
-                    out[i, j, k] = 1.0 - fraction_inside_cube(
-                        phi_node[i, j, k], phi_node[i + 1, j, k], phi_node[i, j + 1, k],
-                        phi_node[i + 1, j + 1, k], phi_node[i, j, k + 1],
-                        phi_node[i + 1, j, k + 1], phi_node[i, j + 1, k + 1],
-                        phi_node[i + 1, j + 1, k + 1],
-                    )  # fmt: skip
+                    s = wx[i, j, k] + wx[i + 1, j, k] + wy[i, j, k] + wy[i, j + 1, k]
+                    s += wz[i, j, k] + wz[i, j, k + 1]
+                    out[i, j, k] = s / 6.0
 
 
 @njit(cache=True, nogil=True)
@@ -420,7 +339,8 @@ class CutGeometry:
                 open_fractions(self.phi_node, self.phi_face[1 - a] if d == 2 else self.phi_node,
                                self.owner_node, d, a, lo, face_hi,
                                self.open_frac[a], self.owner_face[a], layers)  # fmt: skip
-            fluid_fractions(self.phi_node, d, lo, hi, self.fluid_frac)
+            wx, wy, wz = self.open_frac
+            fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)
 
 
 @njit(cache=True, nogil=True)
