@@ -62,7 +62,9 @@ def side_faces(
     ]
     passes = [
         np.stack([(tu[0] == FREE) & ring[0, 1:-1, None], (tu[nx] == FREE) & ring[-1, 1:-1, None]]),
-        np.stack([(tv[:, 0] == FREE) & ring[1:-1, 0, None], (tv[:, ny] == FREE) & ring[1:-1, -1, None]]),
+        np.stack(
+            [(tv[:, 0] == FREE) & ring[1:-1, 0, None], (tv[:, ny] == FREE) & ring[1:-1, -1, None]]
+        ),
     ]
     return vel, passes
 
@@ -122,33 +124,27 @@ def band_change(
     side that lay the ghosts' ``gains`` (:func:`padded_transport`) on the band beyond each side
     (module docstring). ``outer_columns_m`` is the widened grid's wet paint per column, and
     ``on_canvas`` its columns wholly on the canvas."""
-    n_p, wx, wy = outer_columns_m.shape
+    _, wx, wy = outer_columns_m.shape
     nx, ny = wx - 2 * depth, wy - 2 * depth
     out = np.zeros_like(outer_columns_m)
     weights = band_weights(depth)
     d = np.arange(depth)
-    lanes = (  # (band index arrays along the side) for axis, side: columns at distance 1..depth
-        ((depth - 1 - d, None), (depth + nx + d, None)),
-        ((None, depth - 1 - d), (None, depth + ny + d)),
-    )
-    for axis in (0, 1):
-        n = ny if axis == 0 else nx
+    for axis, n in ((0, ny), (1, nx)):
         along = depth + np.arange(n)
-        for side in (0, 1):
+        size = nx if axis == 0 else ny
+        for side, away in ((0, depth - 1 - d), (1, depth + size + d)):  # distance 1..depth
             g = gains[:, axis, side, :n]  # (P, n)
             if not g.any():
                 continue
-            ai = lanes[axis][side][axis]
-            idx = (ai[:, None], along[None, :]) if axis == 0 else (along[None, :], ai[:, None])
-            band = outer_columns_m[:, idx[0], idx[1]]  # (P, depth, n)
-            wt = weights[:, None] * on_canvas[idx[0], idx[1]]  # (depth, n)
+            ii, jj = (
+                (away[:, None], along[None, :]) if axis == 0 else (along[None, :], away[:, None])
+            )
+            wt = weights[:, None] * on_canvas[ii, jj]  # (depth, n)
             norm = wt.sum(axis=0)
             wt = np.divide(wt, norm, out=np.zeros_like(wt), where=norm > 0.0)
-            gain = np.maximum(g, 0.0)[:, None, :] * wt[None]
-            held = wt[None] * band
+            held = wt[None] * outer_columns_m[:, ii, jj]  # (P, depth, n)
             total = held.sum(axis=1, keepdims=True)
             share = np.divide(held, total, out=np.zeros_like(held), where=total > 0.0)
-            loss = np.maximum(-g, 0.0)[:, None, :] * share
-            out[:, idx[0], idx[1]] += gain - loss
+            out[:, ii, jj] += np.maximum(g, 0.0)[:, None, :] * wt[None]
+            out[:, ii, jj] -= np.maximum(-g, 0.0)[:, None, :] * share
     return out
-

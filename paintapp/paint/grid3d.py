@@ -53,7 +53,11 @@ from solver.simulation import Fluid, Simulation
 PROBE = "brush"
 LATERAL = ("x_min", "x_max", "y_min", "y_max")
 #: The grid's sides with slip lateral walls (see the module docstring).
-SIDES = {**{name: Side("slip") for name in LATERAL}, "z_min": Side("wall"), "z_max": Side("outflow")}
+SIDES = {
+    **{name: Side("slip") for name in LATERAL},
+    "z_min": Side("wall"),
+    "z_max": Side("outflow"),
+}
 
 
 def grid_sides(open_sides: bool) -> dict[str, Side]:

@@ -219,7 +219,7 @@ class PaintScene:
             )
         if self.sides == "open" and self.texel_flow:
             raise InputError(
-                "expected sides = \"slip\" with texel_flow = true (the texels' flow has no open "
+                'expected sides = "slip" with texel_flow = true (the texels\' flow has no open '
                 "sides)",
                 key="grid.sides",
             )

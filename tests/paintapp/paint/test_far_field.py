@@ -95,9 +95,12 @@ def test_the_band_lays_gains_and_takes_losses_without_emptying_a_column():
     assert w.sum() == pytest.approx(1.0) and np.all(np.diff(w) < 0.0)
 
 
-def drag(sides: str, cells: int = 32, span: float = 2.0) -> tuple[np.ndarray, Canvas, float]:
+def drag(
+    sides: str, cells: int = 32, span: float = 2.0, y_m: float = 0.01
+) -> tuple[np.ndarray, Canvas, float]:
     """The square probe dragged at 0.076 m/s through 0.5 mm of wet red (0.1 mm texels, two per
-    cell): the mean force over the middle of the stroke, the canvas, and the inventory's drift."""
+    cell) along ``y_m``: the mean force over the middle of the stroke, the canvas, and the
+    inventory's drift."""
     scene = dataclasses.replace(load_paint_scene("default"), sides=sides, cells=(cells, cells, 12),
                                 span=span, margin_cells=cells // 2 - 1)  # fmt: skip
     layer = np.zeros((1, 200, 560), np.float32)
@@ -106,7 +109,8 @@ def drag(sides: str, cells: int = 32, span: float = 2.0) -> tuple[np.ndarray, Ca
     session = PaintingSession(canvas, "square_probe", scene)
     before = paint_inventory(canvas, session.reservoir)[RED]
     forces = []
-    for sample in stroke_samples(StrokeSpec((0.006, 0.01), (0.05, 0.01), 0.044 / 0.076, 1.0), 0.0):
+    stroke = StrokeSpec((0.006, y_m), (0.05, y_m), 0.044 / 0.076, 1.0)
+    for sample in stroke_samples(stroke, 0.0):
         forces.append(session.sample(sample).force_n.copy())
     drift = abs(paint_inventory(canvas, session.reservoir)[RED] - before) / before
     f = np.array(forces)
@@ -133,8 +137,18 @@ def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s
         return np.r_[rows[30:66], rows[134:170]]
 
     reference = shoulders(wide_canvas)
-    rms = [float(np.sqrt(np.mean((shoulders(c) - reference) ** 2))) for c in (slip_canvas, open_canvas)]
+    rms = [
+        float(np.sqrt(np.mean((shoulders(c) - reference) ** 2))) for c in (slip_canvas, open_canvas)
+    ]
     assert rms[1] < 0.5 * rms[0]
+
+
+def test_open_sides_at_the_canvas_s_edge_keep_the_paint():
+    """Along the canvas's edge the grid's side and its band reach off the canvas: no paint
+    crosses a side there, and none is laid or taken off the canvas."""
+    _, canvas, drift = drag("open", y_m=0.0035)
+    assert drift < 1e-8
+    assert canvas.paint_m.min() >= 0.0 and np.isfinite(canvas.paint_m).all()
 
 
 def test_a_scene_s_sides_are_checked():
