@@ -217,6 +217,12 @@ class PaintScene:
             raise InputError(
                 f"expected one of {', '.join(SIDE_KINDS)}, got {self.sides!r}", key="grid.sides"
             )
+        if self.sides == "open" and self.fluid_model not in ("grid3d", "auto"):
+            raise InputError(
+                f'expected sides = "slip" with fluid_model = {self.fluid_model!r} (only the 3D '
+                "grid has open sides)",
+                key="grid.sides",
+            )
         if self.sides == "open" and self.texel_flow:
             raise InputError(
                 'expected sides = "slip" with texel_flow = true (the texels\' flow has no open '
