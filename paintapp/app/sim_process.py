@@ -249,6 +249,9 @@ class SimulationProcess:
             target=child_main, args=(spec, down_r, up_w), name="paint-simulation", daemon=True
         )
         self._send_lock = threading.Lock()
+        # Every wait on the child goes through this lock: two threads waiting on one process race
+        # in multiprocessing (one reaps it, the other's wait fails and reads no exit code).
+        self._reap_lock = threading.Lock()
         self._receiver = threading.Thread(target=self._receive, name="simulation-receiver")
         self._receiver.daemon = True
         self._stopping = False
@@ -267,7 +270,14 @@ class SimulationProcess:
         self._receiver.start()
 
     def is_alive(self) -> bool:
-        return self._proc.is_alive()
+        with self._reap_lock:
+            return self._proc.is_alive()
+
+    def wait_exit(self, timeout_s: float) -> int | None:
+        """Wait up to ``timeout_s`` for the child to exit; its exit code, or None if it has not."""
+        with self._reap_lock:
+            self._proc.join(timeout_s)
+            return self._proc.exitcode
 
     def _send(self, message: tuple) -> None:
         with self._send_lock:
@@ -292,10 +302,10 @@ class SimulationProcess:
         """Stop the child (the stroke is committed and the journal closed) and the receiver."""
         self._stopping = True
         self._send(("stop",))
-        self._proc.join(timeout_s)
-        if self._proc.is_alive():
-            self._proc.kill()
-            self._proc.join(2.0)
+        if self.wait_exit(timeout_s) is None:
+            with self._reap_lock:
+                self._proc.kill()
+            self.wait_exit(2.0)
         with contextlib.suppress(OSError):
             self._down.close()
         self._receiver.join(timeout_s)
@@ -323,8 +333,7 @@ class SimulationProcess:
                 (self.idle.set if message[1] else self.idle.clear)()
             elif kind == "stopped":
                 break
-        self._proc.join(1.0)
-        self.exitcode = self._proc.exitcode
+        self.exitcode = self.wait_exit(1.0)
         if not self._stopping:
             code = "unknown" if self.exitcode is None else self.exitcode
             fault = f"simulation process stopped (exit code {code}); the canvas is kept"

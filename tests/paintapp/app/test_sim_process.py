@@ -85,8 +85,8 @@ def test_a_stroke_in_the_child_reaches_the_display_canvas_and_its_journal(tmp_pa
         )
     finally:
         sim._down.close()  # the window's end goes away without a word
-        sim._proc.join(30.0)
-    assert sim._proc.exitcode == 0, sim._proc.exitcode
+        code = sim.wait_exit(30.0)
+    assert code == 0, code
     strokes = read_strokes(record)
     assert sum(1 for s in strokes.samples if s.pressure > 0) >= 5
 
