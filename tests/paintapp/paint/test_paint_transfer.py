@@ -184,10 +184,10 @@ def test_the_spline_transfer_leaves_no_cell_lattice_in_a_flat_brush_fringe():
     """Where the stroke's thin fringe turns opaque (a few microns), the tent's slope jumps at the
     column centres print the cell's lattice into the colour; the B-spline's do not. Measured
     on :func:`flat_stroke` (coverage, period k = 6): tent 4.31, B-spline 1.31; paint height
-    1.56 and 1.26 (an older tree of the paint grid gave 3.68 and
-    1.20; 1.98 and 1.44). The price: paint reaches further from the stroke (the spline a cell and
-    a half from a column's centre, the tent one): the band holding over 0.1 um is 48 texels wide
-    with the tent, 54 with it."""
+    1.56 and 1.26 (an older tree of the paint grid gave 3.68 and 1.20; 1.98 and 1.44). The
+    price: paint reaches further from the stroke (the spline a cell and a half from a column's
+    centre, the tent one): the band holding over 0.1 um is 48 texels wide with the tent, 54
+    with it."""
     found = {}
     for transfer in ("tent", "bspline"):
         height, k = flat_stroke(transfer)
