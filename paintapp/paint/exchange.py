@@ -6,7 +6,8 @@ geometry's fluid fractions, so a cell the tip covers in part keeps paint up to i
 the sweep does not jump by whole cells as the tip moves through a cell). The excess is *swept*:
 the brush soaks up ``pickup_fraction`` of it (as far as its reservoir has
 room, :meth:`brushes.PaintReservoir.pick_up`); the rest is pushed aside into the nearest free room
-around the tip, ring by ring (a plough: this is what builds ridges along a stroke). Then the brush
+around the tip (a plough: this is what builds ridges along a stroke), by the tip's distance where
+the cut-cell geometry gives it (:mod:`paintapp.paint.nearest_room`), else ring by ring. Then the brush
 *deposits* paint from its reservoir (:meth:`PaintReservoir.deposit`) into the free room of the
 cells touching it near the canvas. Only wet paint is ever in the grid, so dry paint is never
 picked up or pushed.
@@ -33,6 +34,7 @@ from paintapp.paint.kernels import (
     spread_into_rings,
     sweep_overlap,
 )
+from paintapp.paint.nearest_room import FILL_WIDTH, fill_nearest
 from solver.faces import FLUID, STATIC_SOLID
 
 #: How many rings of cells around the tip receive pushed paint before it is kept in the bristles.
@@ -52,12 +54,16 @@ class CellSpace:
             cell's fluid fraction (0 inside the tip; :func:`cell_caps`).
         deposit_k_max: highest layer index that receives deposits (3D: near the canvas).
         capacity: the full capacity (3D: 1, a full cell; 2D: a thickness in m).
+        distance: (nx, ny, nz) the tip's signed distance at each cell centre, cells (NaN where
+            unknown): pushed paint fills the room nearest the tip's surface by it
+            (:mod:`paintapp.paint.nearest_room`); None: by rings of cells.
     """
 
     unit: float
     cap: np.ndarray
     deposit_k_max: int
     capacity: float
+    distance: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -178,12 +184,19 @@ def place_pushed(
 def _place(
     q: np.ndarray, dist: np.ndarray, space: CellSpace, volume: np.ndarray, weight: np.ndarray
 ) -> float:
-    """Put ``volume`` (P,) in the rings around the tip, each column's room times ``weight``,
-    then (where that room ran out) in the rest of the rings' room; what finds no room at all
-    stays in the probe's cells (among the bristles). Returns the volume kept."""
+    """Put ``volume`` (P,) in the room round the tip, each column's room times ``weight``,
+    then (where that room ran out) in the rest of the room: nearest the tip's surface first
+    (:func:`paintapp.paint.nearest_room.fill_nearest`) where ``space`` has the tip's distance,
+    then in the rings around the tip; what finds no room at all stays in the probe's cells
+    (among the bristles). Returns the volume kept."""
     if not volume.any():
         return 0.0
     nz = q.shape[3]
+    if space.distance is not None:
+        fill_nearest(q, space.distance, space.cap, weight, nz - 1, space.unit, volume, FILL_WIDTH)
+        if volume.any() and weight.min() < 1.0:
+            even = np.ones_like(weight)
+            fill_nearest(q, space.distance, space.cap, even, nz - 1, space.unit, volume, FILL_WIDTH)
     spread_into_rings(q, dist, 1, MAX_RING, nz - 1, space.cap, weight, space.unit, volume)
     if volume.any() and weight.min() < 1.0:
         even = np.ones_like(weight)

@@ -39,6 +39,7 @@ from paintapp.paint.exchange import (
 )
 from paintapp.paint.far_field import band_change, padded_transport, side_faces
 from paintapp.paint.kernels import fill_columns
+from paintapp.paint.nearest_room import tip_distance
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.texel_velocity import column_face_velocity
@@ -255,13 +256,17 @@ class PaintGrid3D(PaintModel):
 
     def _cell_space(self, label: np.ndarray) -> CellSpace:
         """Cell volume and each cell's capacity (its fluid fraction of a full cell); deposits go
-        into the layer above the tip's lowest."""
+        into the layer above the tip's lowest; with cut cells (and the scene's ``push`` =
+        ``"distance"``) the tip's distance at each cell, which pushed paint fills by."""
         assert self.sim is not None
         layers = np.flatnonzero((label >= 0).any(axis=(0, 1)))
         lowest = int(layers[0]) if layers.size else 0
         cut = self.sim.cut
         caps = cell_caps(1.0, label, None if cut is None else cut.fluid_frac)
-        return CellSpace(self.cell_size_m**3, caps, lowest + 1, 1.0)
+        distance = None
+        if cut is not None and self.scene.push == "distance":
+            distance = tip_distance(cut.phi_cell, self.cell_size_m)
+        return CellSpace(self.cell_size_m**3, caps, lowest + 1, 1.0, distance)
 
     def _exchange(
         self,

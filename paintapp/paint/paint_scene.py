@@ -31,6 +31,8 @@ A scene file::
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
+    push = "rings"                  # pushed paint: "rings" of cells round the tip, or the room
+                                    # nearest its surface ("distance": smoother ridges)
     deposit_length_m = 0.04         # a loaded brush lays 1/e of its load over this stroke length
 
     [solver]                        # optional
@@ -68,6 +70,8 @@ TRANSFER_KERNELS = ("bspline", "tent")
 
 #: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
 SIDE_KINDS = ("slip", "open")
+#: How pushed paint finds room round the tip (:mod:`paintapp.paint.nearest_room`).
+PUSH_FILLS = ("rings", "distance")
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
@@ -159,6 +163,11 @@ class PaintScene:
             column centres and prints a faint lattice where thin films turn colour).
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
+        push: where pushed paint goes: ``"rings"`` (rings of cells round the tip's cells,
+            which jump by a cell as a face passes a cell centre: lumps along the ridges of a tip
+            drifting sideways) or ``"distance"`` (the free room nearest the tip's surface, by
+            its signed distance at the cells, continuous as the tip moves through the cells;
+            cut-cell tips of the 3D grid, :mod:`paintapp.paint.nearest_room`).
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
         solver: solver settings.
         description: free text.
@@ -185,6 +194,7 @@ class PaintScene:
     sweep: bool = True
     transfer: str = "bspline"
     pickup_fraction: float = 0.3
+    push: str = "rings"
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
         default_factory=lambda: SolverSettings(
@@ -228,6 +238,10 @@ class PaintScene:
                 'expected sides = "slip" with texel_flow = true (the texels\' flow has no open '
                 "sides)",
                 key="grid.sides",
+            )
+        if self.push not in PUSH_FILLS:
+            raise InputError(
+                f"expected one of {', '.join(PUSH_FILLS)}, got {self.push!r}", key="brush.push"
             )
         if not 1 <= self.far_field_cells <= max(nx, ny):
             raise InputError(
@@ -287,6 +301,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         sweep=_boolean(paint, "sweep", True),
         transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
+        push=brush.string("push", "rings", choices=list(PUSH_FILLS)),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
