@@ -16,7 +16,10 @@ prints its own period. :func:`period_scan` folds the same three lines at every p
 :data:`SCAN_MIN_TEXELS` texels to :data:`SCAN_STEPS` steps (chunks of one period along the path's
 arc length, :data:`PHASES` points each), with the same floor (each chunk's phase rolled at
 random); the period whose depth stands highest over its floor (refined between its scanned
-neighbours) is the stroke's worst.
+neighbours) is the stroke's worst. The scanned periods are :data:`SCAN_RATIO` apart, which on a
+long stroke is too coarse for a short period (the fold of 70 chunks drifts by most of a period
+between two scanned ones): the step's own sub-multiples (:data:`SUB_STEPS`: the periods of a
+sample split into sub-steps) are folded exactly as well.
 
 ``python -m paintapp.session.comb DIR [STROKES]`` prints both for every stroke of ``STROKES``
 (default: ``DIR/strokes.jsonl``, the strokes as ``paintapp demo`` placed them, else the bundled
@@ -46,6 +49,8 @@ OFFSETS_TEXELS = (-2.0, 0.0, 2.0)
 SCAN_MIN_TEXELS = 3.0
 SCAN_STEPS = 4.0
 SCAN_RATIO = 1.02
+#: The step is also folded at step / n for each of these n (sub-steps of a sample).
+SUB_STEPS = (2, 3, 4)
 
 
 @dataclass(frozen=True)
@@ -173,7 +178,8 @@ def period_scan(height_m: np.ndarray, texel_m: float, points_m: np.ndarray) -> P
     a path too short or bare."""
     pts = np.asarray(points_m, dtype=float)
     step = float(np.median(np.hypot(*np.diff(pts, axis=0).T))) / texel_m if len(pts) > 1 else 0.0
-    found = period_depths(height_m, texel_m, pts, scan_periods(step))
+    subs = [step / n for n in SUB_STEPS if step / n >= SCAN_MIN_TEXELS]
+    found = period_depths(height_m, texel_m, pts, np.concatenate([scan_periods(step), subs]))
     found = [d for d in found if d.floor > 0.0]
     if not found:
         return None
@@ -218,8 +224,10 @@ def main(argv: list[str]) -> int:
         print(f"{path.label[:32]:32s} {np.median(seg):13.2f}  {depth:11.3f}  {floor:5.3f}  {scan}")
     print("tooth depth: peak-to-peak of the paint height over a step's phase (mean over the")
     print("steps), over the mean height; floor: the same with each step's phase rolled at random;")
-    print(f"worst period: of periods {SCAN_MIN_TEXELS:g} texels to {SCAN_STEPS:g} steps, the one")
-    print("whose depth stands highest over its floor")
+    print(
+        f"worst period: of periods {SCAN_MIN_TEXELS:g} texels to {SCAN_STEPS:g} steps and the step's"
+    )
+    print("halves, thirds and quarters, the one whose depth stands highest over its floor")
     return 0
 
 

@@ -63,6 +63,29 @@ def test_the_period_scan_finds_teeth_that_recur_every_few_steps():
     assert period_depths(relief, TEXEL, path, np.array([100.0])) == []  # under four periods
 
 
+def test_the_period_scan_finds_teeth_at_a_sub_step_between_its_scanned_periods():
+    """Two sub-steps a sample of 12.61 texels print teeth every 6.305 texels, between the
+    scan's periods 6.24 and 6.37: over 70 teeth the fold at either drifts by a third of a period
+    and halves them, and beside a second, shallower comb (every 15.1 texels) the coarse scan's
+    worst lies elsewhere (at three sub-steps, 18.9: measured) and the refinement never looks near
+    6.3 (as on the demo's probe). The step's halves are folded exactly."""
+    step = 12.61
+    periods = scan_periods(step)
+    assert not np.isclose(periods, step / 2.0, rtol=2e-3).any()
+    path = straight_path(step, steps=36)
+    x = np.arange(520) + 0.5 - 20.0
+    rng = np.random.default_rng(3)
+    relief = 1.0 + 0.05 * rng.standard_normal((100, 520))
+    teeth = 0.1 * np.cos(2.0 * np.pi * x / (step / 2.0)) + 0.05 * np.cos(2.0 * np.pi * x / 15.1)
+    combed = (relief + teeth[None, :]) * 1e-4
+    coarse = [d for d in period_depths(combed, TEXEL, path, periods) if d.floor > 0.0]
+    assert abs(max(coarse, key=lambda d: d.depth / d.floor).period_texels - step / 2.0) > 1.0
+    worst = period_scan(combed, TEXEL, path)
+    assert worst is not None
+    assert worst.period_texels == pytest.approx(step / 2.0, rel=2e-3)
+    assert worst.depth == pytest.approx(0.2, rel=0.15)
+
+
 def test_the_demo_strokes_split_at_their_markers(tmp_path, capsys):
     from paintapp.resources import asset_path
 
