@@ -6,11 +6,11 @@ geometry's fluid fractions, so a cell the tip covers in part keeps paint up to i
 the sweep does not jump by whole cells as the tip moves through a cell). The excess is *swept*:
 the brush soaks up ``pickup_fraction`` of it (as far as its reservoir has
 room, :meth:`brushes.PaintReservoir.pick_up`); the rest is pushed aside into the nearest free room
-around the tip (a plough: this is what builds ridges along a stroke), by the tip's distance where
-the cut-cell geometry gives it (:mod:`paintapp.paint.nearest_room`), else ring by ring. Then the brush
-*deposits* paint from its reservoir (:meth:`PaintReservoir.deposit`) into the free room of the
-cells touching it near the canvas. Only wet paint is ever in the grid, so dry paint is never
-picked up or pushed.
+around the tip (a plough: this is what builds ridges along a stroke), ring by ring, or by the
+tip's distance where the scene asks and the cut-cell geometry gives it
+(:mod:`paintapp.paint.nearest_room`). Then the brush *deposits* paint from its reservoir
+(:meth:`PaintReservoir.deposit`) into the free room of the cells touching it near the canvas.
+Only wet paint is ever in the grid, so dry paint is never picked up or pushed.
 
 Deposit rate: a brush moving at speed ``v`` with pressure ``p`` releases
 ``V (1 - exp(-v dt (0.25 + 0.75 p) / L))`` of its load ``V`` per step, with ``L`` the scene's

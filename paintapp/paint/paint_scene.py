@@ -243,6 +243,12 @@ class PaintScene:
             raise InputError(
                 f"expected one of {', '.join(PUSH_FILLS)}, got {self.push!r}", key="brush.push"
             )
+        if self.push == "distance" and self.fluid_model not in ("grid3d", "auto"):
+            raise InputError(
+                f'expected push = "rings" with fluid_model = {self.fluid_model!r} (only the 3D '
+                "grid pushes paint by distance)",
+                key="brush.push",
+            )
         if not 1 <= self.far_field_cells <= max(nx, ny):
             raise InputError(
                 f"expected 1 <= far_field_cells <= the grid's cells ({max(nx, ny)}), "

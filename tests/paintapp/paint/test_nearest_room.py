@@ -10,11 +10,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.ndimage import map_coordinates, uniform_filter1d
 
+from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import CellSpace, place_pushed
 from paintapp.paint.kernels import probe_rings, spread_into_rings
 from paintapp.paint.nearest_room import FILL_WIDTH, fill_nearest, tip_distance
-from paintapp.paint.paint_scene import load_paint_scene
+from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.session.painting import PaintingSession, paint_inventory
 from solver.cut_geometry import FAR
 from solver.faces import FLUID
@@ -176,3 +177,15 @@ def test_a_drifting_tip_s_ridge_carries_no_lumps_when_pushed_paint_goes_by_dista
     lumps = {push: ridge_lumps(diagonal_drag(push)) for push in ("rings", "distance")}
     assert lumps["rings"] > 90e-6
     assert lumps["distance"] < 0.6 * lumps["rings"]
+
+
+def test_a_scene_s_push_is_checked():
+    scene = parse_paint_scene({"fluid_model": "grid3d", "brush": {"push": "distance"}}, "s")
+    assert scene.push == "distance" and load_paint_scene("default").push == "rings"
+    assert load_paint_scene("push_distance").push == "distance"
+    with pytest.raises(InputError, match="rings, distance"):
+        parse_paint_scene({"brush": {"push": "nearest"}}, "s")
+    with pytest.raises(InputError, match="only the 3D grid"):
+        parse_paint_scene({"fluid_model": "depth_averaged", "brush": {"push": "distance"}}, "s")
+    auto = parse_paint_scene({"fluid_model": "auto", "brush": {"push": "distance"}}, "s")
+    assert auto.push == "distance"
