@@ -31,8 +31,8 @@ A scene file::
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
-    push = "rings"                  # pushed paint: "rings" of cells round the tip, or the room
-                                    # nearest its surface ("distance": smoother ridges)
+    push = "distance"               # pushed paint: the room nearest the tip's surface, or
+                                    # "rings" of cells round it (lumps along drifting ridges)
     deposit_length_m = 0.04         # a loaded brush lays 1/e of its load over this stroke length
 
     [solver]                        # optional
@@ -71,7 +71,7 @@ TRANSFER_KERNELS = ("bspline", "tent")
 #: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
 SIDE_KINDS = ("slip", "open")
 #: How pushed paint finds room round the tip (:mod:`paintapp.paint.nearest_room`).
-PUSH_FILLS = ("rings", "distance")
+PUSH_FILLS = ("distance", "rings")
 
 #: The paint models.
 FLUID_MODELS = ("grid3d", "depth_averaged", "none")
@@ -163,11 +163,12 @@ class PaintScene:
             column centres and prints a faint lattice where thin films turn colour).
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
-        push: where pushed paint goes: ``"rings"`` (rings of cells round the tip's cells,
-            which jump by a cell as a face passes a cell centre: lumps along the ridges of a tip
-            drifting sideways) or ``"distance"`` (the free room nearest the tip's surface, by
-            its signed distance at the cells, continuous as the tip moves through the cells;
-            cut-cell tips of the 3D grid, :mod:`paintapp.paint.nearest_room`).
+        push: where pushed paint goes: ``"distance"`` (the free room nearest the tip's surface,
+            by its signed distance at the cells, continuous as the tip moves through the cells;
+            cut-cell tips of the 3D grid, :mod:`paintapp.paint.nearest_room`; the depth-averaged
+            grid and voxelized tips push by rings) or ``"rings"`` (rings of cells round the
+            tip's cells, which jump by a cell as a face passes a cell centre: lumps along the
+            ridges of a tip drifting sideways).
         deposit_length_m: stroke length over which a loaded brush lays down 1 - 1/e of its load.
         solver: solver settings.
         description: free text.
@@ -194,7 +195,7 @@ class PaintScene:
     sweep: bool = True
     transfer: str = "bspline"
     pickup_fraction: float = 0.3
-    push: str = "rings"
+    push: str = "distance"
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
         default_factory=lambda: SolverSettings(
@@ -242,12 +243,6 @@ class PaintScene:
         if self.push not in PUSH_FILLS:
             raise InputError(
                 f"expected one of {', '.join(PUSH_FILLS)}, got {self.push!r}", key="brush.push"
-            )
-        if self.push == "distance" and self.fluid_model not in ("grid3d", "auto"):
-            raise InputError(
-                f'expected push = "rings" with fluid_model = {self.fluid_model!r} (only the 3D '
-                "grid pushes paint by distance)",
-                key="brush.push",
             )
         if not 1 <= self.far_field_cells <= max(nx, ny):
             raise InputError(
@@ -307,7 +302,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         sweep=_boolean(paint, "sweep", True),
         transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
-        push=brush.string("push", "rings", choices=list(PUSH_FILLS)),
+        push=brush.string("push", "distance", choices=list(PUSH_FILLS)),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),

@@ -345,7 +345,8 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
     fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
     (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
     every sample's reads summed into the row in turn (the row stays in the first-level cache),
-    unsigned indices, then the division by ``samples``."""
+    unsigned indices, then the division by ``samples``. (:func:`sweep_change` passes a step's
+    gains and losses.)"""
     ny, nx = gain_s.shape
     total = 0.0
     offs_i = np.empty(samples, np.int64)
@@ -387,6 +388,28 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
 
 
 @njit(cache=True, nogil=True)
+def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
+    """``out`` (ny, nx) = the largest of ``field``'s values read at the same points as
+    :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
+    (dx, dy)); ``field`` padded as there."""
+    ny, nx = out.shape
+    out[:] = 0.0
+    for k in range(samples):
+        s = (k + 0.5) / samples
+        ox, oy = s * dx, s * dy
+        i0, j0 = int(np.floor(ox)), int(np.floor(oy))
+        fx, fy = ox - i0, oy - j0
+        w00, w10, w01, w11 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        for y in range(ny):
+            ya, yb = field[y + pad_y + j0], field[y + pad_y + j0 + 1]
+            o_row = out[y]
+            for x in range(nx):
+                xa = x + pad_x + i0
+                v = w00 * ya[xa] + w10 * ya[xa + 1] + w01 * yb[xa] + w11 * yb[xa + 1]
+                o_row[x] = max(o_row[x], v)
+
+
+@njit(cache=True, nogil=True)
 def _water_fill(frac_s, mobile, scale, lost):
     """``(scale, taken)``: the scale at which the swept fractions take ``lost`` (to 1e-12 of
     it), from ``scale``, and what they take, ``taken = sum min(scale f, 1) m`` (after 31 passes
@@ -420,13 +443,19 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     ``g_s(x) = mean over s in (0, 1) of g(x + s d)`` (bilinear, a sample every ``spacing``
     texels of travel or closer, at most :data:`MAX_SWEEP_SAMPLES` (a stalled session's long
     catch-up step): every value moves whole, so the total is kept when the box
-    reaches ``|d|`` texels behind the change); the losses as the same mean of the *fraction*
-    each texel lost, ``f = max(m - new, 0) / m``, times the texel's own paint, scaled so that the
-    total loss is kept (water-filling: a texel the scaling would take past all it holds is
-    emptied, the rest scaled again). A texel thus never loses more than it holds, and only paint
-    that was there is taken. A pigment whose swept totals miss by more than round-off (the box
-    cut short at the canvas's edge) keeps its unswept change. ``touched`` and ``total`` (as
-    :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept."""
+    reaches ``|d|`` texels behind the change); the losses ``l = max(m - new, 0)`` the same way,
+    ``l_s``, each texel's take capped at ``c = f_max m``: its own paint times the largest
+    *fraction* ``f = l / m`` lost along its path (the max of the same samples), and scaled so
+    that the total loss is kept (water-filling: a texel the scaling would take past its cap gives
+    its cap, the rest scaled again). A texel thus never loses more than it holds, nor a larger
+    share of it than a texel on its path lost, and only paint that was there is taken. (The mean
+    of the fractions instead, times the texel's own paint, is not linear in the change: the
+    sweep then left a step's teeth in part, at the period of a sub-step and of a sample; the
+    amounts alone, uncapped, emptied texels whose path lost more than they held, and left
+    holes.) A pigment whose swept totals miss by more than round-off (the box cut short at the
+    canvas's edge), or whose caps cannot take its loss, keeps its unswept change. ``touched``
+    and ``total`` (as :func:`spread_to_texels` fills them) are updated. Returns whether anything
+    was swept."""
     n_p, ny, nx = new_mobile.shape
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:
@@ -434,21 +463,23 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
     pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
     gain = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept`
+    loss = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
     frac = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
     gain_s = np.empty((ny, nx))
-    frac_s = np.empty((ny, nx))
+    frac_s = np.empty((ny, nx))  # the swept loss over the cap, then what the water-filling reads
+    cap = np.empty((ny, nx))
     mobile = np.empty((ny, nx))
     share = np.empty((ny, nx))
     for y in range(ny):
         for x in range(nx):
             share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
-    loss_row = np.empty(nx)
     done = False
     for p in range(n_p):
         gained, lost = 0.0, 0.0
         for y in range(ny):
             row = paint[p, y0 + y, x0 : x0 + nx]
             gain_row = gain[pad_y + y, pad_x : pad_x + nx]
+            loss_row = loss[pad_y + y, pad_x : pad_x + nx]
             frac_row = frac[pad_y + y, pad_x : pad_x + nx]
             share_row, mobile_row, new_row = share[y], mobile[y], new_mobile[p, y]
             for x in range(nx):
@@ -462,28 +493,34 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
             lost += _sum(loss_row)
         if gained == 0.0 and lost == 0.0:
             continue
-        swept = _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
+        swept = _swept(gain, loss, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
-        # The first pass of the water-filling (scale 1; the swept fractions are means of values
-        # in 0..1, so nothing clips) also finds the largest fraction: when the scaled fractions
-        # stay within 1, the second pass would only confirm the scale.
-        taken, _, top = _taken_slope(frac_s.reshape(-1), mobile.reshape(-1), 1.0)
+        _swept_max(frac, pad_x, pad_y, dx, dy, samples, cap)
+        for y in range(ny):
+            c_row, f_row, m_row = cap[y], frac_s[y], mobile[y]
+            for x in range(nx):
+                c = c_row[x] * m_row[x]
+                c_row[x] = c
+                f_row[x] = f_row[x] / c if c > 0.0 else 0.0  # the swept loss over the cap
+        # The first pass of the water-filling (scale 1) also finds the largest ratio: when the
+        # scaled ratios stay within 1, no texel reaches its cap and the scale is exact.
+        taken, _, top = _taken_slope(frac_s.reshape(-1), cap.reshape(-1), 1.0)
         scale = 1.0
         if taken > 0.0 and abs(taken - lost) > 1e-12 * lost:
             scale = lost / taken
-            if scale * top > 1.0:  # some texels clip: solve taken(scale) = lost
-                scale, taken = _water_fill(frac_s, mobile, scale, lost)
+            if scale * top > 1.0:  # some texels reach their caps: solve taken(scale) = lost
+                scale, taken = _water_fill(frac_s, cap, scale, lost)
             else:
                 taken = lost
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
-            continue  # the swept fractions meet too little paint: keep the unswept change
+            continue  # the caps meet too little paint: keep the unswept change
         for y in range(ny):
-            f_row, m_row, g_row = frac_s[y], mobile[y], gain_s[y]
+            f_row, m_row, g_row, c_row = frac_s[y], mobile[y], gain_s[y], cap[y]
             t_row, new_row = touched[y], new_mobile[p, y]
             for x in range(nx):
                 m = m_row[x]
-                take = min(scale * f_row[x], 1.0) * m
+                take = min(scale * f_row[x], 1.0) * c_row[x]
                 new = max(m - take, 0.0) + g_row[x]
                 if new != m:
                     t_row[x] = True

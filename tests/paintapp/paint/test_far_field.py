@@ -94,8 +94,10 @@ def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s
     measured: drag 27 % high and lift 80 % low against a grid twice as wide; open sides 11 % and
     6 % low) and make the force buzz as the walls' distance from the tip's faces steps between
     re-centrings (rms change from one sample to the next: drag 4.6 and lift 5.2 mN with slip
-    walls, 1.2 and 0.9 open, 1.8 and 2.4 on the wide grid). Beside the stroke the paint the probe
-    draws in leaves a shallow trough, which slip walls cannot show."""
+    walls, 1.2 and 0.9 open, 1.8 and 2.4 on the wide grid). Beside the stroke, the paint height
+    across it beyond its ridges: rms off the wide grid's 10.4 um with slip walls, 10.8 open
+    (measured; 41 and 20 before the write-back's sweep took each texel's loss whole along the
+    path, which also settles the shoulders the slip walls' re-centring had combed)."""
     slip, open_, wide = (sides.drag(*case) for case in sides.CASES)
     assert open_.drift < 1e-8
     for axis in (0, 2):  # drag and lift
@@ -108,7 +110,7 @@ def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s
         return np.r_[result.across_m[30:66], result.across_m[134:170]]
 
     rms = [float(np.sqrt(np.mean((shoulders(r) - shoulders(wide)) ** 2))) for r in (slip, open_)]
-    assert rms[1] < 0.5 * rms[0]
+    assert max(rms) < 15e-6
 
 
 def test_open_sides_at_the_canvas_s_edge_keep_the_paint(monkeypatch):

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.ndimage import map_coordinates, uniform_filter1d
 
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
@@ -16,6 +15,7 @@ from paintapp.paint.exchange import CellSpace, place_pushed
 from paintapp.paint.kernels import probe_rings, spread_into_rings
 from paintapp.paint.nearest_room import FILL_WIDTH, fill_nearest, tip_distance
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
+from paintapp.session.comb import period_depths
 from paintapp.session.painting import PaintingSession, paint_inventory
 from solver.cut_geometry import FAR
 from solver.faces import FLUID
@@ -127,9 +127,10 @@ def test_what_finds_no_room_by_distance_goes_to_the_rings():
     assert q.sum(axis=0).max() <= 1.0 + 1e-12
 
 
-def diagonal_drag(push: str) -> np.ndarray:
+def diagonal_drag(push: str) -> tuple[np.ndarray, np.ndarray]:
     """The square probe dragged at 0.076 m/s and a slope of 1/7.5 through 0.5 mm of wet red on
-    0.1 mm texels (it drifts 0.42 of its 0.2 mm cells sideways a sub-step); the paint height."""
+    0.1 mm texels (it drifts 0.42 of its 0.2 mm cells sideways a sub-step); the paint height and
+    the in-contact samples' positions over the middle of the drag (m)."""
     scene = dataclasses.replace(load_paint_scene("default"), push=push)
     layer = np.zeros((1, 240, 560), np.float32)
     layer[0, 20:220, 20:540] = 5e-4
@@ -140,52 +141,34 @@ def diagonal_drag(push: str) -> np.ndarray:
     y0 = 0.012 - 0.5 * slope * (x1 - x0)
     length = np.hypot(x1 - x0, slope * (x1 - x0))
     spec = StrokeSpec((x0, y0), (x1, y0 + slope * (x1 - x0)), length / 0.076, 1.0)
+    points = []
     for sample in stroke_samples(spec, 0.0):
         session.sample(sample)
+        if sample.pressure > 0.0 and 0.015 < sample.position_m[0] < 0.045:
+            points.append(sample.position_m[:2])
     after = paint_inventory(canvas, session.reservoir)[RED]
     assert after == pytest.approx(before, rel=1e-5) and canvas.paint_m.min() >= 0.0
-    return canvas.height_m.astype(float)
-
-
-def ridge_lumps(height: np.ndarray, period: float = 15.2) -> float:
-    """Largest peak-to-peak (m) of the paint height folded at ``period`` texels along the drag,
-    on lines 18-32 texels to the track's right (its ridge there), each detrended over three
-    periods, over texels 150-450 of x."""
-    slope = 1.0 / 7.5
-    along = np.array([1.0, slope]) / np.hypot(1.0, slope)
-    normal = np.array([-along[1], along[0]])
-    y_start = (0.012 - 0.5 * slope * 0.044 + slope * (0.015 - 0.006)) / 1e-4
-    phases = 20
-    chunks = int(300 * np.hypot(1.0, slope) // period)
-    s = (np.arange(chunks * phases) + 0.5) * period / phases
-    worst = 0.0
-    for offset in range(-32, -17, 2):
-        x = 150.0 + s * along[0] + offset * normal[0]
-        y = y_start + s * along[1] + offset * normal[1]
-        line = map_coordinates(height, [y - 0.5, x - 0.5], order=1)
-        line = line - uniform_filter1d(line, 6 * phases + 1, mode="nearest")
-        fold = line.reshape(chunks, phases)[2:-2].mean(axis=0)
-        worst = max(worst, float(np.ptp(fold)))
-    return worst
+    return canvas.height_m.astype(float), np.array(points)
 
 
 @pytest.mark.slow
-def test_a_drifting_tip_s_ridge_carries_no_lumps_when_pushed_paint_goes_by_distance():
+def test_a_drifting_tip_s_trail_carries_no_teeth_at_its_faces_beat_when_pushed_by_distance():
     """The probe's faces pass a cell centre every 2.4 sub-steps (15.2 texels of travel): by
-    rings, the ridge it pushes up jumps out a cell each time, and carried lumps at that period
-    (measured: 176 um peak to peak on the worst line); by distance 86 um."""
-    lumps = {push: ridge_lumps(diagonal_drag(push)) for push in ("rings", "distance")}
-    assert lumps["rings"] > 90e-6
-    assert lumps["distance"] < 0.6 * lumps["rings"]
+    rings, the paint it pushes jumps out a cell each time, and its trail carried teeth at that
+    period (the comb measure's three lines along the track, depth against floor, measured: 0.141
+    against 0.084; the worst line across its right-hand ridge 104 um peak to peak); by distance
+    0.080 against 0.068 (86 um)."""
+    found = {}
+    for push in ("rings", "distance"):
+        height, points = diagonal_drag(push)
+        (fold,) = period_depths(height, 1e-4, points, np.array([15.2]))
+        found[push] = fold
+    assert found["rings"].depth > 1.4 * found["rings"].floor
+    assert found["distance"].depth < 0.75 * found["rings"].depth
 
 
 def test_a_scene_s_push_is_checked():
-    scene = parse_paint_scene({"fluid_model": "grid3d", "brush": {"push": "distance"}}, "s")
-    assert scene.push == "distance" and load_paint_scene("default").push == "rings"
-    assert load_paint_scene("push_distance").push == "distance"
-    with pytest.raises(InputError, match="rings, distance"):
+    scene = parse_paint_scene({"fluid_model": "grid3d", "brush": {"push": "rings"}}, "s")
+    assert scene.push == "rings" and load_paint_scene("default").push == "distance"
+    with pytest.raises(InputError, match="distance, rings"):
         parse_paint_scene({"brush": {"push": "nearest"}}, "s")
-    with pytest.raises(InputError, match="only the 3D grid"):
-        parse_paint_scene({"fluid_model": "depth_averaged", "brush": {"push": "distance"}}, "s")
-    auto = parse_paint_scene({"fluid_model": "auto", "brush": {"push": "distance"}}, "s")
-    assert auto.push == "distance"

@@ -46,7 +46,7 @@ def balance(session: PaintingSession) -> dict[str, float]:
 
 
 @pytest.mark.parametrize(
-    "scene_name", ["default", "open_sides", "push_distance", "thin_glaze", "no_fluid"]
+    "scene_name", ["default", "push_rings", "open_sides", "thin_glaze", "no_fluid"]
 )
 def test_paint_is_conserved_through_brush_grid_and_canvas(scene_name):
     canvas = Canvas((96, 96), (0.024, 0.024), (BLUE, YELLOW))

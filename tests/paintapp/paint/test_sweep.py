@@ -45,6 +45,38 @@ def test_gains_are_laid_as_their_mean_along_the_path_and_totals_kept():
     np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)  # all wet: no dry part
 
 
+def test_losses_are_laid_as_their_mean_along_the_path_within_each_texel_s_cap():
+    """Texels of unequal paint lose a patch's paint: each texel behind takes the mean of the
+    losses ahead on its path (linear in the change, so the teeth of steps that repeat along a
+    stroke average out), and none a larger share of its own paint than the largest share lost
+    on its path. The mean of the fractions lost, times the texel's own paint, took more from
+    the thicker texels and less from the thinner ones."""
+    paint = np.zeros((1, 20, 40), np.float32)
+    paint[0, :, :] = np.where(np.arange(40) % 2 == 0, 1e-5, 3e-5)[None, :]  # stripes of two heights
+    wet = np.ones((20, 40), np.float32)
+    mobile = paint[:, 2:18, 2:38].astype(np.float64)
+    new = mobile.copy()
+    new[:, 4:12, 20:24] *= 0.5  # half of a 4-texel patch taken
+    out = new.copy()
+    assert sweep_change(paint, wet, 2, 2, out, np.zeros((16, 36), bool), np.zeros((16, 36)), 4.0,
+                        0.0, 1.0)  # fmt: skip
+    loss = np.maximum(mobile - new, 0.0)
+    padded = np.pad(loss, ((0, 0), (0, 0), (0, 6)))
+    mean = sum(padded[:, :, k : k + 36] + padded[:, :, k + 1 : k + 37] for k in range(4)) / 8
+    taken = mobile - out
+    np.testing.assert_allclose(taken.sum(), loss.sum(), rtol=1e-12)
+    cap = 0.5 * mobile  # half: the share the patch lost, the largest on any path
+    assert (taken <= cap * (1.0 + 1e-12)).all()
+    at_cap = np.isclose(taken, cap, rtol=1e-9) & (mean > 0.0)
+    free = (mean > 0.0) & ~at_cap
+    assert at_cap.any() and free.sum() > 20
+    # below their caps the texels take the mean loss times one common scale (the water-filling's,
+    # which makes up what the capped ones could not give), whatever their own paint
+    ratio = taken[free] / mean[free]
+    assert np.ptp(ratio) < 1e-9 * ratio.mean() and ratio.mean() >= 1.0
+    assert np.ptp(mobile[free]) > 1e-5  # thin and thick stripes among them
+
+
 def test_losses_never_take_more_than_a_texel_holds():
     rng = np.random.default_rng(2)
     paint, wet, _, _ = canvas_and_change(rng)

@@ -166,8 +166,9 @@ def comb(profile: np.ndarray) -> tuple[float, float]:
 def test_a_fast_rigid_tip_leaves_a_trail_without_a_comb():
     """The probe's surface comes back to the same place in a cell once per sample: a voxelized,
     closed tip printed that as a row of teeth (measured: roughness 0.24, comb 0.24). Measured
-    now: roughness 0.081 and comb 0.109 with the grid re-centred every step (the default),
-    0.171 and 0.112 with the old margin of 10 cells."""
+    now: roughness 0.082 and comb 0.116 with the grid re-centred every step and pushed paint
+    laid by distance (the defaults; 0.081 and 0.109 by rings), 0.171 and 0.112 with the old
+    margin of 10 cells (by rings)."""
     rough, teeth = comb(scrape())
     assert teeth < 0.15
     assert rough < 0.12
@@ -213,7 +214,9 @@ def teeth_at_the_sample_period(canvas: Canvas) -> float:
 
 
 def test_a_step_laid_along_the_path_the_tip_swept_leaves_no_comb():
-    """Measured: teeth 0.248 with the change laid at each step's end pose, 0.101 swept."""
+    """Measured: teeth 0.256 with the change laid at each step's end pose, 0.053 swept (0.101
+    when the sweep took the mean of the fractions each texel on the path lost, times the texel's
+    own paint: not linear in the change, it left part of each step's teeth)."""
     before = None
     teeth = {}
     for sweep in (False, True):
@@ -224,16 +227,17 @@ def test_a_step_laid_along_the_path_the_tip_swept_leaves_no_comb():
         before = inventory if before is None else before
         np.testing.assert_allclose(inventory, before, rtol=1e-5)  # the same paint either way
         assert canvas.paint_m.min() >= 0.0
-    assert teeth[True] < 0.15 < teeth[False]
+    assert teeth[True] < 0.1 < 0.15 < teeth[False]
 
 
 def test_a_grid_that_re_centres_on_the_tip_every_step_prints_no_teeth_at_its_shifts():
     """The paint grid's sides are slip walls; a grid that re-centres only once the tip nears a
     side (the old margin, 10 of 32 cells) lets the tip's leading face close in on the wall ahead
     between shifts, and the bow wave it pushes, and so the trail, repeats with the shifts (every
-    7-9 cells: 22 texels here, measured depth 1.06 against its floor 0.39). Re-centred every
+    7-9 cells: 22 texels here, measured depth 0.77 against its floor 0.31; 1.06 against 0.39
+    before the write-back's sweep took each texel's loss whole along the path). Re-centred every
     step, the wall stays where it was: the deepest fold of the trail at any period up to two
-    samples' travel is 0.24 (floor 0.13)."""
+    samples' travel is 0.28 (floor 0.12; 0.24 and 0.13 before)."""
     path = np.array([[0.006 + 0.044 * s, 0.01] for s in np.linspace(0.1, 0.9, 30)])
     periods = scan_periods(12.7)
     periods = periods[periods < 26.0]  # up to two samples' travel: six chunks of the path or more
@@ -244,8 +248,8 @@ def test_a_grid_that_re_centres_on_the_tip_every_step_prints_no_teeth_at_its_shi
         found = period_depths(height, 1e-4, path, periods)
         worst[margin] = max(found, key=lambda d: d.depth)
     assert session.model.margin_cells == 15  # the default: every step
-    assert 15.0 < worst[10].period_texels < 26.0 and worst[10].depth > 0.8
-    assert worst[None].depth < 0.3
+    assert 15.0 < worst[10].period_texels < 26.0 and worst[10].depth > 0.6
+    assert worst[None].depth < 0.35 and worst[None].depth < 0.5 * worst[10].depth
 
 
 @pytest.mark.parametrize("brush", ["round_small", "square_probe"])
