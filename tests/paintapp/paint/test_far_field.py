@@ -91,10 +91,10 @@ def test_the_band_lays_gains_and_takes_losses_without_emptying_a_column():
 
 def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s():
     """Slip walls one brush width from a fast probe confine the flow (`paintapp figures sides`,
-    measured: drag 27 % high and lift 80 % low against a grid twice as wide; open sides 11 % and
-    6 % low) and make the force buzz as the walls' distance from the tip's faces steps between
-    re-centrings (rms change from one sample to the next: drag 4.6 and lift 5.2 mN with slip
-    walls, 1.2 and 0.9 open, 1.8 and 2.4 on the wide grid). Beside the stroke, the paint height
+    measured: drag 31 % high and no lift against a grid twice as wide; open sides 10 % and 7 %
+    low) and make the force buzz as the walls' distance from the tip's faces steps between
+    re-centrings (rms change from one sample to the next: drag 4.4 and lift 3.9 mN with slip
+    walls, 1.2 and 1.4 open, 1.4 and 1.7 on the wide grid). Beside the stroke, the paint height
     across it beyond its ridges: rms off the wide grid's 10.4 um with slip walls, 10.8 open
     (measured; 41 and 20 before the write-back's sweep took each texel's loss whole along the
     path, which also settles the shoulders the slip walls' re-centring had combed)."""
