@@ -391,22 +391,39 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
 def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
     """``out`` (ny, nx) = the largest of ``field``'s values read at the same points as
     :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
-    (dx, dy)); ``field`` padded as there."""
+    (dx, dy)); ``field`` padded as there. Row by row, as :func:`_swept`."""
     ny, nx = out.shape
-    out[:] = 0.0
+    offs_i = np.empty(samples, np.int64)
+    offs_j = np.empty(samples, np.int64)
+    w = np.empty((samples, 4))
     for k in range(samples):
         s = (k + 0.5) / samples
         ox, oy = s * dx, s * dy
         i0, j0 = int(np.floor(ox)), int(np.floor(oy))
         fx, fy = ox - i0, oy - j0
-        w00, w10, w01, w11 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
-        for y in range(ny):
-            ya, yb = field[y + pad_y + j0], field[y + pad_y + j0 + 1]
-            o_row = out[y]
-            for x in range(nx):
-                xa = x + pad_x + i0
-                v = w00 * ya[xa] + w10 * ya[xa + 1] + w01 * yb[xa] + w11 * yb[xa + 1]
-                o_row[x] = max(o_row[x], v)
+        offs_i[k] = i0
+        offs_j[k] = j0
+        w[k, 0], w[k, 1] = (1 - fx) * (1 - fy), fx * (1 - fy)
+        w[k, 2], w[k, 3] = (1 - fx) * fy, fx * fy
+    for y in range(ny):
+        o_row = out[y]
+        for k in range(samples):
+            ya = np.uint64(y + pad_y + offs_j[k])
+            fa, fb = field[ya], field[ya + np.uint64(1)]
+            w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
+            xo = pad_x + offs_i[k]
+            if k == 0:
+                for x in range(nx):
+                    xa = np.uint64(x + xo)
+                    xb = xa + np.uint64(1)
+                    o_row[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+            else:
+                for x in range(nx):
+                    xa = np.uint64(x + xo)
+                    xb = xa + np.uint64(1)
+                    o_row[x] = max(
+                        o_row[x], w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+                    )
 
 
 @njit(cache=True, nogil=True)
@@ -468,6 +485,8 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     gain_s = np.empty((ny, nx))
     frac_s = np.empty((ny, nx))  # the swept loss over the cap, then what the water-filling reads
     cap = np.empty((ny, nx))
+    ratio_n = np.empty(ny * nx)
+    cap_n = np.empty(ny * nx)
     mobile = np.empty((ny, nx))
     share = np.empty((ny, nx))
     for y in range(ny):
@@ -497,20 +516,25 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
         _swept_max(frac, pad_x, pad_y, dx, dy, samples, cap)
+        n = 0  # the texels that lose paint, gathered for the water-filling's passes
         for y in range(ny):
             c_row, f_row, m_row = cap[y], frac_s[y], mobile[y]
             for x in range(nx):
                 c = c_row[x] * m_row[x]
                 c_row[x] = c
-                f_row[x] = f_row[x] / c if c > 0.0 else 0.0  # the swept loss over the cap
+                r = f_row[x] / c if c > 0.0 else 0.0  # the swept loss over the cap
+                f_row[x] = r
+                if r > 0.0:
+                    ratio_n[n], cap_n[n] = r, c
+                    n += 1
         # The first pass of the water-filling (scale 1) also finds the largest ratio: when the
         # scaled ratios stay within 1, no texel reaches its cap and the scale is exact.
-        taken, _, top = _taken_slope(frac_s.reshape(-1), cap.reshape(-1), 1.0)
+        taken, _, top = _taken_slope(ratio_n[:n], cap_n[:n], 1.0)
         scale = 1.0
         if taken > 0.0 and abs(taken - lost) > 1e-12 * lost:
             scale = lost / taken
             if scale * top > 1.0:  # some texels reach their caps: solve taken(scale) = lost
-                scale, taken = _water_fill(frac_s, cap, scale, lost)
+                scale, taken = _water_fill(ratio_n[:n], cap_n[:n], scale, lost)
             else:
                 taken = lost
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
