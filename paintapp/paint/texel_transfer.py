@@ -339,16 +339,10 @@ def _bilinear(field, x, y):
 
 
 @njit(cache=True, nogil=True)
-def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
-    """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
-    the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
-    fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
-    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
-    every sample's reads summed into the row in turn (the row stays in the first-level cache),
-    unsigned indices, then the division by ``samples``. (:func:`sweep_change` passes a step's
-    gains and losses.)"""
-    ny, nx = gain_s.shape
-    total = 0.0
+def _path_samples(dx, dy, samples):
+    """The sweep's sample points along the path (dx, dy), ``(k + 1/2) / samples`` of the way:
+    each one's whole-texel offsets ``(offs_i, offs_j)`` and its four bilinear weights ``w``
+    (samples, 4): lower-left, lower-right, upper-left, upper-right."""
     offs_i = np.empty(samples, np.int64)
     offs_j = np.empty(samples, np.int64)
     w = np.empty((samples, 4))
@@ -361,6 +355,21 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
         offs_j[k] = j0
         w[k, 0], w[k, 1] = (1 - fx) * (1 - fy), fx * (1 - fy)
         w[k, 2], w[k, 3] = (1 - fx) * fy, fx * fy
+    return offs_i, offs_j, w
+
+
+@njit(cache=True, nogil=True)
+def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
+    """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
+    the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
+    fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
+    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
+    every sample's reads summed into the row in turn (the row stays in the first-level cache),
+    unsigned indices, then the division by ``samples``. (:func:`sweep_change` passes a step's
+    gains and losses.)"""
+    ny, nx = gain_s.shape
+    total = 0.0
+    offs_i, offs_j, w = _path_samples(dx, dy, samples)
     for y in range(ny):
         g_out, f_out = gain_s[y], frac_s[y]
         for k in range(samples):
@@ -393,18 +402,7 @@ def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
     :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
     (dx, dy)); ``field`` padded as there. Row by row, as :func:`_swept`."""
     ny, nx = out.shape
-    offs_i = np.empty(samples, np.int64)
-    offs_j = np.empty(samples, np.int64)
-    w = np.empty((samples, 4))
-    for k in range(samples):
-        s = (k + 0.5) / samples
-        ox, oy = s * dx, s * dy
-        i0, j0 = int(np.floor(ox)), int(np.floor(oy))
-        fx, fy = ox - i0, oy - j0
-        offs_i[k] = i0
-        offs_j[k] = j0
-        w[k, 0], w[k, 1] = (1 - fx) * (1 - fy), fx * (1 - fy)
-        w[k, 2], w[k, 3] = (1 - fx) * fy, fx * fy
+    offs_i, offs_j, w = _path_samples(dx, dy, samples)
     for y in range(ny):
         o_row = out[y]
         for k in range(samples):
