@@ -12,7 +12,10 @@ footprint's width.
 
 - ``clumps`` streaks at stratified, jittered positions across the width, each a Gaussian of width
   ``0.35 / clumps`` of the full width and of random strength in [0.5, 1]; their sum, divided by
-  its largest value, is the *streak* profile ``t(u)`` in [0, 1];
+  its largest value, is the *streak* profile ``t(u)`` in [0, 1]. A canvas cannot hold a streak
+  narrower than its texels (sampled, it prints as a jagged, beaded line wherever the stroke runs
+  across the texel rows), so the profile can be asked for with each Gaussian widened by a
+  ``blur`` added in quadrature (:meth:`Bristles.profiles`);
 - the edge ridge ``e(u)`` rises from 0 to 1 over the outer ``1.5 / clumps`` of the width on each
   side.
 
@@ -25,8 +28,9 @@ creates or destroys any.
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
@@ -34,6 +38,9 @@ import numpy as np
 PROFILE_SAMPLES = 1025
 MAX_CLUMPS = 400
 MAX_CONTRAST = 1.0
+#: Streak widenings (``u``) are tabulated at levels this ratio apart, from this least one.
+BLUR_RATIO = 1.05
+MIN_BLUR = 1e-4
 
 
 @dataclass(frozen=True)
@@ -52,34 +59,53 @@ class Bristles:
     ridge: float = 0.5
     seed: int = 0
 
-    @cached_property
-    def _profiles(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        rng = np.random.default_rng(self.seed)
-        n = self.clumps
-        centres = -1.0 + (2.0 * np.arange(n) + 1.0 + rng.uniform(-0.6, 0.6, n)) / n
-        strength = rng.uniform(0.5, 1.0, n)
-        sigma = 0.25 * 2.0 / n
-        u = np.linspace(-1.0, 1.0, PROFILE_SAMPLES)
-        tracks = (strength[:, None] * np.exp(-0.5 * ((u - centres[:, None]) / sigma) ** 2)).sum(0)
-        tracks /= tracks.max()
-        band = 1.5 * 2.0 / n
-        edge = np.clip((np.abs(u) - (1.0 - band)) / band, 0.0, 1.0) ** 2
-        return u, tracks, edge
+    def profiles(self, blur: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(u, t(u), e(u)) at ``PROFILE_SAMPLES`` points over [-1, 1], each streak widened by
+        ``blur`` (a Gaussian's standard deviation in ``u``, added in quadrature: what a canvas of
+        finite texels can hold of it). Read only."""
+        return _tabulate(self, blur_level(blur))
 
-    def tracks(self, u: np.ndarray) -> np.ndarray:
+    def tracks(self, u: np.ndarray, blur: float = 0.0) -> np.ndarray:
         """Track profile ``t(u)`` in [0, 1] at across-motion positions ``u`` (clipped to [-1, 1])."""
-        grid, tracks, _ = self._profiles
+        grid, tracks, _ = self.profiles(blur)
         return np.interp(np.clip(u, -1.0, 1.0), grid, tracks)
 
     def edge(self, u: np.ndarray) -> np.ndarray:
         """Edge-ridge profile ``e(u)`` in [0, 1] (0 inside, 1 at the footprint's sides)."""
-        grid, _, edge = self._profiles
+        grid, _, edge = self.profiles()
         return np.interp(np.clip(u, -1.0, 1.0), grid, edge)
 
-    def gain_weight(self, u: np.ndarray) -> np.ndarray:
+    def gain_weight(self, u: np.ndarray, blur: float = 0.0) -> np.ndarray:
         """Relative share of laid-down paint at ``u`` (> 0)."""
-        return 1.0 - self.contrast + self.contrast * self.tracks(u) + self.ridge * self.edge(u)
+        tracks = self.tracks(u, blur)
+        return 1.0 - self.contrast + self.contrast * tracks + self.ridge * self.edge(u)
 
-    def loss_weight(self, u: np.ndarray) -> np.ndarray:
+    def loss_weight(self, u: np.ndarray, blur: float = 0.0) -> np.ndarray:
         """Relative share of removed paint at ``u``, in [1 - contrast, 1]."""
-        return 1.0 - self.contrast * self.tracks(u)
+        return 1.0 - self.contrast * self.tracks(u, blur)
+
+
+def blur_level(blur: float) -> float:
+    """``blur`` rounded to the nearest of levels :data:`BLUR_RATIO` apart (0 below the least),
+    so that the profiles of a footprint whose width changes a little are tabulated once."""
+    if not blur > MIN_BLUR:
+        return 0.0
+    return float(MIN_BLUR * BLUR_RATIO ** round(math.log(blur / MIN_BLUR) / math.log(BLUR_RATIO)))
+
+
+@functools.lru_cache(maxsize=64)
+def _tabulate(bristles: Bristles, blur: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(bristles.seed)
+    n = bristles.clumps
+    centres = -1.0 + (2.0 * np.arange(n) + 1.0 + rng.uniform(-0.6, 0.6, n)) / n
+    strength = rng.uniform(0.5, 1.0, n)
+    sigma = 0.25 * 2.0 / n
+    wide = math.hypot(sigma, blur)
+    u = np.linspace(-1.0, 1.0, PROFILE_SAMPLES)
+    tracks = (strength[:, None] * np.exp(-0.5 * ((u - centres[:, None]) / wide) ** 2)).sum(0)
+    tracks /= tracks.max()
+    band = 1.5 * 2.0 / n
+    edge = np.clip((np.abs(u) - (1.0 - band)) / band, 0.0, 1.0) ** 2
+    for a in (u, tracks, edge):
+        a.flags.writeable = False
+    return u, tracks, edge

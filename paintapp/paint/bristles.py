@@ -29,17 +29,30 @@ import numpy as np
 from numba import njit
 
 from brushes import Section
-from brushes.bristles import PROFILE_SAMPLES, Bristles
+from brushes.bristles import PROFILE_SAMPLES, Bristles, blur_level
 from paintapp.canvas.regions import Box
 
+#: Each streak is widened by a Gaussian of this many texels (added in quadrature), so that the
+#: canvas can hold it: the texels sample it without a jagged, beaded line along a stroke that
+#: runs across their rows.
+ANTIALIAS_TEXELS = 0.5
 
-@functools.lru_cache(maxsize=16)
-def profile_tables(bristles: Bristles) -> tuple[np.ndarray, np.ndarray]:
-    """The gain and loss weights at ``PROFILE_SAMPLES`` evenly spaced ``u`` over [-1, 1]: both
-    are affine in the linearly interpolated profiles, so interpolating these tables linearly
-    gives the same weights (to round-off). Read only."""
+
+def profile_tables(bristles: Bristles, blur: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The gain and loss weights at ``PROFILE_SAMPLES`` evenly spaced ``u`` over [-1, 1], the
+    streaks widened by ``blur`` (``u``; rounded to a tabulated level): both are affine in the
+    linearly interpolated profiles, so interpolating these tables linearly gives the same weights
+    (to round-off). Read only."""
+    return _tables(bristles, blur_level(blur))
+
+
+@functools.lru_cache(maxsize=64)
+def _tables(bristles: Bristles, blur: float) -> tuple[np.ndarray, np.ndarray]:
     u = np.linspace(-1.0, 1.0, PROFILE_SAMPLES)
-    return bristles.gain_weight(u), bristles.loss_weight(u)
+    gain, loss = bristles.gain_weight(u, blur), bristles.loss_weight(u, blur)
+    gain.flags.writeable = False
+    loss.flags.writeable = False
+    return gain, loss
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -72,14 +85,10 @@ def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, inde
 
 
 @njit(cache=True, nogil=True)
-def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, gain_table, loss_table,
-                    gain, loss):  # fmt: skip
-    """Fill ``gain`` and ``loss`` (ny, nx) over the box whose first texel is (x0, y0): see
-    :meth:`BristleTexture.weights`. ``sdf`` is the footprint's signed distance (m) on the texels
-    of a sub-box at (sx0, sy0) (inf where not evaluated; texels outside it are farther than the
-    texture reaches); (ax, ay) is the unit direction across the motion, (cx, cy) the apex (m).
-    Returns False (the outputs unset) when the footprint covers no texel."""
-    ny, nx = gain.shape
+def footprint_across(texel, cx, cy, ax, ay, sdf, sx0, sy0):
+    """(lowest, highest) position across the motion (m from the apex (cx, cy), along the unit
+    (ax, ay)) of the texel centres inside the footprint, whose signed distance (m) ``sdf`` is
+    given on the texels of a sub-box at (sx0, sy0); (inf, -inf) when it covers none."""
     sny, snx = sdf.shape
     a_lo, a_hi = np.inf, -np.inf
     for y in range(sny):
@@ -88,8 +97,19 @@ def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, gain_ta
             if sdf[y, x] <= 0.0:
                 across = ax * ((sx0 + x + 0.5) * texel - cx) + ay * gy
                 a_lo, a_hi = min(a_lo, across), max(a_hi, across)
-    if a_hi < a_lo:
-        return False
+    return a_lo, a_hi
+
+
+@njit(cache=True, nogil=True)
+def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, a_lo, a_hi, gain_table,
+                    loss_table, gain, loss):  # fmt: skip
+    """Fill ``gain`` and ``loss`` (ny, nx) over the box whose first texel is (x0, y0): see
+    :meth:`BristleTexture.weights`. ``sdf`` is the footprint's signed distance (m) on the texels
+    of a sub-box at (sx0, sy0) (inf where not evaluated; texels outside it are farther than the
+    texture reaches); (ax, ay) is the unit direction across the motion, (cx, cy) the apex (m),
+    ``a_lo`` and ``a_hi`` the footprint's extent across it (:func:`footprint_across`)."""
+    ny, nx = gain.shape
+    sny, snx = sdf.shape
     span = max(a_hi - a_lo, texel)
     wide = 1.0 + 2.0 * reach / span
     count, gain_sum, loss_sum = 0, 0.0, 0.0
@@ -117,7 +137,6 @@ def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, gain_ta
                 gain[y, x], loss[y, x] = 1.0, loss_mean
             else:
                 gain[y, x] /= gain_mean
-    return True
 
 
 class BristleTexture:
@@ -181,10 +200,14 @@ class BristleTexture:
             return None
         sdf = np.full(shape, np.inf)
         sdf.reshape(-1)[index[:count]] = self.footprint.sdf(body[:count])
-        gain, loss = np.empty((y1 - y0, x1 - x0)), np.empty((y1 - y0, x1 - x0))
-        gain_table, loss_table = profile_tables(self.bristles)
         ax, ay = float(self.across[0]), float(self.across[1])
-        if not texture_weights(x0, y0, t, float(c[0]), float(c[1]), ax, ay, self.reach_m, sdf,
-                               sx0, sy0, gain_table, loss_table, gain, loss):  # fmt: skip
+        a_lo, a_hi = footprint_across(t, float(c[0]), float(c[1]), ax, ay, sdf, sx0, sy0)
+        if a_hi < a_lo:
             return None
+        # the streaks no narrower than the texels can hold (u spans the width over 2)
+        blur = ANTIALIAS_TEXELS * t * 2.0 / max(a_hi - a_lo, t)
+        gain_table, loss_table = profile_tables(self.bristles, blur)
+        gain, loss = np.empty((y1 - y0, x1 - x0)), np.empty((y1 - y0, x1 - x0))
+        texture_weights(x0, y0, t, float(c[0]), float(c[1]), ax, ay, self.reach_m, sdf, sx0, sy0,
+                        a_lo, a_hi, gain_table, loss_table, gain, loss)  # fmt: skip
         return gain, loss

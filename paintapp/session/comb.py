@@ -3,12 +3,12 @@
 A tip that jumps from one pose to the next, instead of sweeping, can print one tooth per step
 along a fast stroke: the paint height along the path then repeats with every step between stylus
 samples. The measure, per stroke (the in-contact samples, ``pressure > 0``, between two markers
-of the stroke file, its first and last two steps left out): the paint height is read bilinearly
-at :data:`PHASES` points along each step, on the centre line and 2 texels to either side; the
-*tooth depth* is the peak-to-peak of the mean over the steps at each phase, over the mean height,
-the larger of the three lines. Its *floor* is the same with each step's phases rolled by a random
-amount (the median of :data:`DEALS` deals), which no tooth survives: what the path's own relief
-gives by chance.
+of the stroke file, its first and last two steps left out): the paint height is read (on the
+cubic spline through the texels) at :data:`PHASES` points along each step, on the centre line and
+2 texels to either side; the *tooth depth* is the peak-to-peak of the mean over the steps at each
+phase, over the mean height, the larger of the three lines. Its *floor* is the same with each
+step's phases rolled by a random amount (the median of :data:`DEALS` deals), which no tooth
+survives: what the path's own relief gives by chance.
 
 Teeth need not repeat at the step: anything that recurs every few steps along a stroke (a grid
 that re-centres on the tip every so many cells, a beat between a sub-step's travel and the cell)
@@ -29,11 +29,12 @@ demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.ndimage import map_coordinates
+from scipy.ndimage import map_coordinates, spline_filter
 
 from brushes import StylusSample
 from paintapp.strokes.files import StrokeFile
@@ -51,6 +52,11 @@ SCAN_STEPS = 4.0
 SCAN_RATIO = 1.02
 #: The step is also folded at step / n for each of these n (sub-steps of a sample).
 SUB_STEPS = (2, 3, 4)
+#: Texels of canvas kept round the lines read for the cubic spline's prefilter.
+SPLINE_MARGIN_TEXELS = 12
+
+#: Reads the paint height at texel index coordinates (..., 2).
+Reader = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -94,19 +100,17 @@ def tooth_depth(
     normal = np.stack([-along[:, 1], along[:, 0]], axis=1) / length[:, None]
     f = (np.arange(PHASES) + 0.5) / PHASES
     points = a[:, None, :] + f[None, :, None] * along[:, None, :]
-    return _fold(height_m, points, np.broadcast_to(normal[:, None, :], points.shape), seed)
+    read = _spline_reader(height_m, points)
+    return _fold(read, points, np.broadcast_to(normal[:, None, :], points.shape), seed)
 
 
-def _fold(
-    height_m: np.ndarray, points: np.ndarray, normal: np.ndarray, seed: int
-) -> tuple[float, float]:
+def _fold(read: Reader, points: np.ndarray, normal: np.ndarray, seed: int) -> tuple[float, float]:
     """(depth, floor) of the chunks ``points`` (chunks, PHASES, 2) texel index coordinates, read
-    on lines offset along ``normal`` (same shape) by :data:`OFFSETS_TEXELS`."""
+    by ``read`` on lines offset along ``normal`` (same shape) by :data:`OFFSETS_TEXELS`."""
     rng = np.random.default_rng(seed)
     worst, floor = 0.0, 0.0
     for off in OFFSETS_TEXELS:
-        xy = points + off * normal
-        lines = map_coordinates(height_m, [xy[..., 1], xy[..., 0]], order=1, mode="nearest")
+        lines = read(points + off * normal)
         mean = float(lines.mean())
         if mean <= 0.0:
             continue
@@ -120,6 +124,29 @@ def _fold(
     if worst == 0.0:
         return float("nan"), float("nan")
     return worst, floor
+
+
+def _spline_reader(height_m: np.ndarray, points: np.ndarray) -> Reader:
+    """A reader of ``height_m`` at texel index coordinates (..., 2) near ``points``: the cubic
+    spline through the texels (of a crop round the points wide enough that the spline's
+    prefilter does not feel its edges). Not bilinear: read bilinearly, a streak along a
+    diagonal stroke, even, sampled by the texels, swells and thins every time the line read
+    crosses a texel row or column, a comb that the paint does not have (along a 3-4-5 diagonal,
+    teeth every 2.5 and 3.3 texels)."""
+    pad = max(abs(o) for o in OFFSETS_TEXELS) + SPLINE_MARGIN_TEXELS
+    flat = points.reshape(-1, 2)
+    h, w = height_m.shape
+    x0 = int(np.clip(np.floor(flat[:, 0].min() - pad), 0, w))
+    x1 = int(np.clip(np.ceil(flat[:, 0].max() + pad) + 1, x0, w))
+    y0 = int(np.clip(np.floor(flat[:, 1].min() - pad), 0, h))
+    y1 = int(np.clip(np.ceil(flat[:, 1].max() + pad) + 1, y0, h))
+    coeffs = spline_filter(np.asarray(height_m[y0:y1, x0:x1], dtype=float), 3, mode="nearest")
+
+    def read(xy: np.ndarray) -> np.ndarray:
+        at = [xy[..., 1] - y0, xy[..., 0] - x0]
+        return map_coordinates(coeffs, at, order=3, mode="nearest", prefilter=False)
+
+    return read
 
 
 @dataclass(frozen=True)
@@ -150,6 +177,7 @@ def period_depths(
     if len(seg) == 0:
         return []
     normal = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / length[:, None]
+    read = _spline_reader(height_m, p)
     out: list[PeriodDepth] = []
     for period in np.asarray(periods_texels, dtype=float):
         chunks = int(arc[-1] // period)
@@ -159,7 +187,7 @@ def period_depths(
         xy = np.stack([np.interp(s, arc, p[:, 0]), np.interp(s, arc, p[:, 1])], axis=1)
         which = np.clip(np.searchsorted(arc, s, side="right") - 1, 0, len(seg) - 1)
         shape = (chunks, PHASES, 2)
-        depth, floor = _fold(height_m, xy.reshape(shape), normal[which].reshape(shape), 0)
+        depth, floor = _fold(read, xy.reshape(shape), normal[which].reshape(shape), 0)
         if np.isfinite(depth):
             out.append(PeriodDepth(float(period), depth, floor))
     return out

@@ -194,3 +194,31 @@ def test_the_footprint_s_near_texels_are_numpy_s(seed):
     assert count == int(near.sum())
     np.testing.assert_array_equal(body[:count], want)
     np.testing.assert_array_equal(index[:count], np.flatnonzero(near))
+
+
+def test_the_streaks_are_no_finer_than_the_texels_hold():
+    """A diagonal stroke's texture, sampled by the texels: little of its relief lies near the
+    texels' Nyquist frequency, where a sampled streak turns into a jagged, beaded line (without
+    the widening, a quarter of it does)."""
+    preset = load_preset_named("round_large", BRUSHES)
+    assert preset.bristles is not None
+    texel = 1e-4
+    texture = BristleTexture(
+        preset.bristles,
+        Section(preset.tip(1.0), 0.0015),
+        np.array([0.02, 0.02]),
+        0.0,
+        np.array([0.8, -0.6]),
+        texel,
+        12 * texel,
+        0.012,
+    )
+    weights = texture.weights((100, 100, 300, 300))
+    assert weights is not None
+    gain = weights[0]
+    window = np.hanning(200)[:, None] * np.hanning(200)[None, :]
+    power = np.abs(np.fft.fft2((gain - gain.mean()) * window)) ** 2
+    f = np.fft.fftfreq(200)
+    radius = np.hypot(f[:, None], f[None, :])
+    assert gain.max() - gain.min() > 0.3  # the streaks are there
+    assert power[radius > 0.4].sum() < 0.1 * power[radius > 0.02].sum()

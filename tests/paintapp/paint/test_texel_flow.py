@@ -147,13 +147,17 @@ def test_a_straight_stroke_carries_no_cell_lattice():
     scene = dataclasses.replace(small_scene(), texel_flow=True)
     canvas, k = diagonal_stroke(scene)
     assert lattice_ratio(canvas.height_m.astype(np.float64), k) <= 1.15
-    # The colour's edge, with the flow and with the columns' transfer alone (measured 1.10 and
-    # 1.15; the columns' tent transfer gave 1.8): no more than the stroke's own edges give
-    # without any lattice (the phases dealt at random: floor 1.33-1.41, and most deals higher).
+    # The colour's edge, with the flow and with the columns' transfer alone (the columns' tent
+    # transfer gave 1.8): no more than the stroke's own edges give without any lattice (the
+    # phases dealt at random: the floor, and most deals higher). The ratio moves with where the
+    # stroke falls on the texels: the stroke started 0-0.5 mm further right, with the flow,
+    # 1.15-1.27 with the bristles' streaks as sharp as the profile, 1.20-1.28 widened to what
+    # the texels hold (floors 1.30-1.35); the transfer alone 1.07-1.08.
     old, _ = diagonal_stroke(dataclasses.replace(scene, texel_flow=False))
     for painted in (canvas, old):
-        assert lattice_ratio(coverage(painted), k) <= 1.2
-        assert null_ratio(coverage(painted), k)[1] >= 0.5
+        floor, share = null_ratio(coverage(painted), k)
+        assert lattice_ratio(coverage(painted), k) <= min(floor, 1.3)
+        assert share >= 0.5
 
 
 def test_the_thin_edge_runs_back_whole_and_leaves_no_hole():

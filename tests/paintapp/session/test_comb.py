@@ -23,6 +23,24 @@ def straight_path(step_texels: float, steps: int = 40) -> np.ndarray:
     return np.stack([x, np.full_like(x, 50.5 * TEXEL)], axis=1)
 
 
+def test_even_streaks_along_a_diagonal_stroke_read_no_comb():
+    """Streaks along a 3-4-5 diagonal, even along it and wide enough for the texels: read
+    bilinearly, each would swell and thin wherever the line read crosses a texel row or column
+    (teeth every 2.5 and 3.3 texels, at 4-6 times their floor); read on the cubic spline, nothing
+    stands over the floor."""
+    yy, xx = np.mgrid[0:300, 0:300] + 0.5
+    across = 0.6 * xx + 0.8 * yy
+    relief = 1.0 + 0.02 * np.random.default_rng(3).standard_normal(xx.shape)
+    streaks = sum(np.exp(-0.5 * (across - c) ** 2) for c in np.arange(150.0, 270.0, 4.3))
+    height = (relief + 0.5 * streaks) * 1e-4
+    along = np.linspace(-110.0, 110.0, 45)[:, None] * np.array([0.8, -0.6])[None, :]
+    path = (150.1 + along) * TEXEL
+    found = period_depths(height, TEXEL, path, np.array([2.5, 10.0 / 3.0, 5.0]))
+    assert len(found) == 3
+    for d in found:
+        assert d.depth < 2.0 * d.floor, d
+
+
 def test_teeth_one_per_step_are_measured_and_a_smooth_trail_stays_at_its_floor():
     path = straight_path(5.0)
     x = np.arange(260) + 0.5
