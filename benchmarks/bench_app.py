@@ -2,7 +2,8 @@
 
     python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--servo process|thread]
                                    [--simulation thread|process]
-                                   [--headless-seconds S] [--rounds N] [--json OUT.json]
+                                   [--headless-seconds S] [--bare-seconds S] [--rounds N]
+                                   [--json OUT.json]
                                    [--screenshot OUT.png]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
@@ -33,6 +34,10 @@ share of the machine's CPU time that the host took during each round's window ru
 run, and its largest over any half second) and its headless run (Linux's steal counter; on a
 virtual machine, time in which its CPUs had work but the hypervisor ran something else): a
 round with steal is a round in which the host, not the program, set part of the figures.
+With a device, each round ends with the machine's own floor (unless ``--bare-seconds 0``): the
+servo process's clock, priority and core with an empty tick, alone for ``--bare-seconds``
+(default ``--seconds``) on the idle machine (:mod:`paintapp.haptics.bare_loop`); a servo stall
+that the bare loop shows as well is the machine's, not the loop's.
 ``--json`` writes every figure to a file as well (the medians at the top level, each round's
 figures under ``"rounds"``).
 """
@@ -219,6 +224,9 @@ def main() -> None:
                         help="where the window's simulation runs")  # fmt: skip
     parser.add_argument("--headless-seconds", type=float, default=None,
                         help="length of the headless run (default: --seconds; 0 skips it)")  # fmt: skip
+    parser.add_argument("--bare-seconds", type=float, default=None,
+                        help="length of the bare loop's run with a device (default: --seconds; "
+                             "0 skips it)")  # fmt: skip
     parser.add_argument("--rounds", type=int, default=1,
                         help="repeat the measurement; prints each round and the medians")  # fmt: skip
     parser.add_argument("--json", type=Path, help="write the figures to this JSON file")
@@ -259,6 +267,9 @@ SUMMARY = (
     ("servo achieved rate (Hz)", "{:.1f}"),
     ("servo lateness p99 (ms)", "{:.3f}"),
     ("servo lateness max (ms)", "{:.2f}"),
+    ("bare loop lateness p99 (ms)", "{:.3f}"),
+    ("bare loop lateness max (ms)", "{:.2f}"),
+    ("bare loop stalls over 2 ms", "{:.0f}"),
     ("simulation rate", "{:.1f}"),
     ("headless simulation rate", "{:.1f}"),
     ("window share of headless", "{:.0%}"),
@@ -416,7 +427,35 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
         print(f"host CPU steal  {headless_steal.describe()} during the headless run")
         if headless_steal.share is not None:
             figures["host CPU steal, headless run"] = headless_steal.share
+    bare_s = args.seconds if args.bare_seconds is None else args.bare_seconds
+    if args.device != "none" and bare_s > 0:
+        figures |= bare_loop(bare_s)
     return figures
+
+
+def bare_loop(seconds: float) -> dict[str, object]:
+    """The machine's own floor: the servo process's clock and real-time settings with an empty
+    tick, alone on the idle machine (:mod:`paintapp.haptics.bare_loop`)."""
+    from paintapp.bench.host_steal import StealMonitor
+    from paintapp.haptics.bare_loop import STALL_S, measure_bare_loop
+
+    with StealMonitor() as steal:
+        try:
+            bare = measure_bare_loop(seconds)
+        except RuntimeError as exc:
+            print(f"bare loop       not measured: {exc}")
+            return {}
+    print(f"bare loop       {bare.describe()}; host CPU steal {steal.describe()}")
+    if bare.listed:
+        stalls = ", ".join(f"{1e3 * late:.1f} ms at {at:.2f} s" for at, late in bare.listed[:8])
+        print(f"bare loop       stalls over {1e3 * STALL_S:g} ms: {stalls}")
+    t = bare.timing
+    return {
+        "bare loop lateness p99 (ms)": 1e3 * t.lateness_p99_s,
+        "bare loop lateness max (ms)": 1e3 * t.lateness_max_s,
+        "bare loop stalls over 2 ms": bare.stalls,
+        "bare loop granted": bare.granted,
+    }
 
 
 if __name__ == "__main__":

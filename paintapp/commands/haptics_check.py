@@ -4,7 +4,9 @@ loop keeps time.
 Runs the real-time servo loop with the simulated device for S seconds idle, then S seconds beside
 a running 3D simulation, in a thread of this process and in a servo process of its own (the
 window's form), and prints achieved rate, lateness percentiles, missed deadlines and the cost of a
-tick side by side, and what the OS granted the servo process.
+tick side by side, and what the OS granted the servo process. With the process form it then runs
+the machine's own floor for S seconds (the same clock, priority and core with an empty tick:
+:mod:`paintapp.haptics.bare_loop`), the lateness no servo loop on this machine can beat.
 """
 
 from __future__ import annotations
@@ -33,6 +35,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="run the loop in a thread, in its own process (the window's form), or both (default)",
     )
     p.set_defaults(func=run)
+
+
+def bare_floor(seconds: float) -> str:
+    """One line: the machine's own timing floor (:mod:`paintapp.haptics.bare_loop`)."""
+    from paintapp.haptics.bare_loop import measure_bare_loop
+
+    try:
+        return f"machine floor: {measure_bare_loop(seconds).describe()}"
+    except RuntimeError as exc:
+        return f"machine floor: not measured ({exc})"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -89,6 +101,8 @@ def run(args: argparse.Namespace) -> int:
                 quiet = replace(config, record=False)  # the child keeps no tick log
                 runs.append(run_process_once(args.seconds, quiet, sim, progress))
     print(format_table(runs))
+    if "process" in forms:
+        print(bare_floor(args.seconds))
     verdicts = []
     for form in forms:
         timings = [

@@ -81,6 +81,7 @@ def test_haptics_check_prints_idle_and_loaded_figures_side_by_side(
     ):
         assert row in out
     assert "ticks" in out and "verdict:" in out
+    assert "machine floor: bare 1 kHz loop" in out  # the process form's floor, after the table
 
 
 def test_haptics_check_rejects_a_bad_duration(capsys: pytest.CaptureFixture) -> None:
