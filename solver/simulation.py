@@ -8,6 +8,7 @@ probe.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -430,23 +431,34 @@ class Simulation:
         self.drag_per_s = np.ascontiguousarray(k)
 
     # -- moving the grid ------------------------------------------------------------------------
-    def shift(self, offset_cells: tuple[int, ...]) -> None:
-        """Move the grid by whole cells (``offset_cells`` per active axis), keeping the state.
+    def shift(self, offset_cells: tuple[float, ...]) -> None:
+        """Move the grid by ``offset_cells`` per active axis, keeping the state.
 
-        Samples that stay inside the grid keep their values; cells that enter it start at rest
-        with zero pressure (a caller may fill them, e.g. from a canvas, before the next step).
+        By whole cells, samples that stay inside the grid keep their values; by a fraction of a
+        cell, each sample takes the linear interpolation of the two it now lies between (each
+        velocity component and the pressure alike: the fields move as a whole). Cells that enter
+        the grid start at rest with zero pressure (a caller may fill them, e.g. from a canvas,
+        before the next step).
         """
         g = self.grid
-        off = [int(o) for o in offset_cells] + [0] * (3 - len(offset_cells))
+        off = [float(o) for o in offset_cells] + [0.0] * (3 - len(offset_cells))
         if not any(off):
             return
+        whole = all(o == round(o) for o in off)
         origin = tuple(g.origin_m[a] + off[a] * g.cell_size_m for a in range(3))
         self.grid = Grid(g.dim, g.cells, g.cell_size_m, origin)  # type: ignore[arg-type]
         st = self.state
-        st.comps = [_shifted(q, off) for q in st.comps]
-        st.pressure = _shifted(st.pressure, off)
-        self._was_active = _shifted(self._was_active, off)
-        if self.cut is not None and self.cut.shift((off[0], off[1], off[2]), g.cells):
+        if whole:
+            cells = [round(o) for o in off]
+            st.comps = [_shifted(q, cells) for q in st.comps]
+            st.pressure = _shifted(st.pressure, cells)
+        else:
+            st.comps = [_shifted_by(q, off) for q in st.comps]
+            st.pressure = _shifted_by(st.pressure, off)
+        self._was_active = _shifted(self._was_active, [round(o) for o in off])
+        if not whole:
+            self._rasterize()  # the geometry is sampled afresh at the new cell centres
+        elif self.cut is not None and self.cut.shift((cells[0], cells[1], cells[2]), g.cells):
             # the probes stood still: their geometry moves with the grid (no new distances)
             self._rigid, ref = self._rigid_and_reference()
             self._motion = (self._rigid[0], self._rigid[1], self._rigid[2], ref)
@@ -724,6 +736,25 @@ class Simulation:
         out = np.full((pts.shape[0], 3), 0.5 * self.grid.cell_size_m)
         out[:, :d] = pts[:, :d] - np.asarray(self.grid.origin_m)[:d]
         return out
+
+
+def _shifted_by(q: np.ndarray, off: list[float]) -> np.ndarray:
+    """``q`` moved by fractions of a cell: new[i] = old at i + off, linearly interpolated along
+    each axis in turn; entries from outside are zero."""
+    out = q
+    for a in range(3):
+        base = math.floor(off[a])
+        frac = off[a] - base
+        if base == 0 and frac == 0.0:
+            continue
+        step = [0, 0, 0]
+        step[a] = base
+        lo = _shifted(out, step)
+        if frac > 0.0:
+            step[a] = base + 1
+            lo = (1.0 - frac) * lo + frac * _shifted(out, step)
+        out = lo
+    return np.ascontiguousarray(out)
 
 
 def _shifted(q: np.ndarray, off: list[int]) -> np.ndarray:

@@ -1,10 +1,12 @@
 """``paintapp figures sides --out F.png``: what the 3D paint grid's sides do to the force and the paint.
 
 The square probe dragged at 0.076 m/s through 0.5 mm of wet cadmium red (0.1 mm texels, two a
-cell), three times: the default grid (32 x 32 x 12 cells over two brush widths) with free-slip
-lateral walls, the same grid with open sides (``sides = "open"``, :mod:`paintapp.paint.far_field`),
-and a slip grid twice as wide (64 x 64 x 12 over four brush widths, the same cells) as the
-reference the narrow ones should come near. The plot shows the drag and the lift along the
+cell), four times: the default grid (32 x 32 x 12 cells over two brush widths) with free-slip
+lateral walls re-centred on the tip by whole cells (the default, ``follow = "cells"``), the same
+grid following the tip continuously (``follow = "continuous"``: the walls keep their distance
+from the tip), the same grid with open sides (``sides = "open"``,
+:mod:`paintapp.paint.far_field`), and a slip grid twice as wide (64 x 64 x 12 over four brush
+widths, the same cells, by whole cells) as the reference the narrow ones should come near. The plot shows the drag and the lift along the
 stroke and the paint height across it (the mean over the middle of the stroke); the mean forces
 over the middle half of the stroke, and how far each grid is off the wide one, are printed.
 """
@@ -28,11 +30,12 @@ PAINTED = (slice(30, 170), slice(20, 540))
 #: The stroke: from, to (m), duration (s); the columns averaged across it.
 START_M, END_M, DURATION_S = (0.006, 0.01), (0.05, 0.01), 0.044 / 0.076
 MIDDLE = slice(250, 450)
-#: The three grids: label, sides, lateral cells, span (brush widths).
+#: The four grids: label, sides, lateral cells, span (brush widths), how they follow the tip.
 CASES = (
-    ("slip walls, 32 cells", "slip", 32, 2.0),
-    ("open sides, 32 cells", "open", 32, 2.0),
-    ("slip walls, 64 cells (reference)", "slip", 64, 4.0),
+    ("slip walls, 32 cells, by cells", "slip", 32, 2.0, "cells"),
+    ("slip walls, 32 cells, following", "slip", 32, 2.0, "continuous"),
+    ("open sides, 32 cells", "open", 32, 2.0, "cells"),
+    ("slip walls, 64 cells (reference)", "slip", 64, 4.0, "cells"),
 )
 
 
@@ -62,7 +65,7 @@ class DragResult:
         return np.sqrt(np.mean(np.diff(self.middle(), axis=0) ** 2, axis=0))
 
 
-def drag(label: str, sides: str, cells: int, span: float) -> DragResult:
+def drag(label: str, sides: str, cells: int, span: float, follow: str = "cells") -> DragResult:
     """Drag the probe through the wet red with the given grid (module docstring)."""
     from brushes import StylusSample
     from paintapp.canvas.model import Canvas
@@ -70,7 +73,7 @@ def drag(label: str, sides: str, cells: int, span: float) -> DragResult:
     from paintapp.session.painting import PaintingSession, paint_inventory
 
     scene = dataclasses.replace(load_paint_scene("default"), sides=sides, cells=(cells, cells, 12),
-                                span=span, margin_cells=cells // 2 - 1)  # fmt: skip
+                                span=span, margin_cells=cells // 2 - 1, follow=follow)  # fmt: skip
     w, h = CANVAS
     layer = np.zeros((1, h, w), np.float32)
     layer[(0, *PAINTED)] = 5e-4
@@ -99,7 +102,7 @@ def plot(results: list[DragResult], out: Path) -> None:
 
     plt = pyplot()
     fig, (ax_x, ax_z, ax_h) = plt.subplots(3, 1, figsize=(8.0, 9.0))
-    styles = ("C0", "C3", "k")
+    styles = ("C0", "C2", "C3", "k")
     for r, color in zip(results, styles, strict=True):
         ax_x.plot(r.t_s * 1e3, -r.force_n[:, 0] * 1e3, color=color, label=r.label)
         ax_z.plot(r.t_s * 1e3, r.force_n[:, 2] * 1e3, color=color, label=r.label)
@@ -139,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
         f, j = r.mean_force(), r.jitter()
         off = (f - reference) / np.abs(reference)
         print(
-            f"{r.label:34s} drag {-f[0] * 1e3:6.2f} mN ({off[0] * -100:+5.1f} %)  "
+            f"{r.label:36s} drag {-f[0] * 1e3:6.2f} mN ({off[0] * -100:+5.1f} %)  "
             f"lift {f[2] * 1e3:6.2f} mN ({off[2] * 100:+5.1f} %)  sample-to-sample rms: "
             f"drag {j[0] * 1e3:.2f}, lift {j[2] * 1e3:.2f} mN  paint drift {r.drift:.1e}"
         )

@@ -98,6 +98,8 @@ class ColumnWindow:
         cells_xy: (nx, ny) columns.
         texels_per_cell: ``k``.
         kernel: ``"bspline"`` or ``"tent"`` (:func:`transfer_weights`).
+        continuous: the window follows a point exactly (its corner anywhere, to a fraction of a
+            texel: :meth:`place` and :meth:`recentre_offset`), not by whole cells.
     """
 
     def __init__(
@@ -106,15 +108,19 @@ class ColumnWindow:
         cells_xy: tuple[int, int],
         texels_per_cell: int,
         kernel: str = "bspline",
+        continuous: bool = False,
     ) -> None:
         if kernel not in TRANSFER_KERNELS:
             raise ValueError(f"kernel must be one of {TRANSFER_KERNELS}, got {kernel!r}")
         self.kernel = kernel
+        self.continuous = continuous
         self.texel_m = square_texel_m(canvas)
         self.k = int(texels_per_cell)
         self.cells = (int(cells_xy[0]), int(cells_xy[1]))
         self.pixels = canvas.pixels
-        self.origin_texel = (0, 0)
+        #: The grid's lower-left corner in texels (whole cells' worth of texels, or anywhere
+        #: when ``continuous``).
+        self.origin_texel: tuple[float, float] = (0, 0)
 
     @property
     def cell_size_m(self) -> float:
@@ -126,34 +132,49 @@ class ColumnWindow:
         """Canvas position (m) of the grid's lower-left corner."""
         return (self.origin_texel[0] * self.texel_m, self.origin_texel[1] * self.texel_m)
 
-    def place(self, x_m: float, y_m: float) -> None:
-        """Centre the window on (x, y) metres, snapped to the block lattice."""
-        k = self.k
-        ox = k * round(x_m / self.texel_m / k - 0.5 * self.cells[0])
-        oy = k * round(y_m / self.texel_m / k - 0.5 * self.cells[1])
-        self.origin_texel = (ox, oy)
+    def whole_origin(self) -> tuple[int, int]:
+        """The corner in whole texels, for a window that follows by whole cells."""
+        if self.continuous:
+            raise ValueError("a window that follows continuously has no whole-texel corner")
+        return int(self.origin_texel[0]), int(self.origin_texel[1])
 
-    def recentre_offset(self, x_m: float, y_m: float, margin: int) -> tuple[int, int]:
-        """Whole-cell shift (di, dj) that re-centres on (x, y), or (0, 0) while it is farther
-        than ``margin`` cells from every side."""
-        out = []
+    def place(self, x_m: float, y_m: float) -> None:
+        """Centre the window on (x, y) metres (snapped to the block lattice unless
+        ``continuous``)."""
+        k = self.k
+        ox = x_m / self.texel_m / k - 0.5 * self.cells[0]
+        oy = y_m / self.texel_m / k - 0.5 * self.cells[1]
+        if self.continuous:
+            self.origin_texel = (k * ox, k * oy)
+        else:
+            self.origin_texel = (k * round(ox), k * round(oy))
+
+    def recentre_offset(self, x_m: float, y_m: float, margin: int) -> tuple[float, float]:
+        """The shift (di, dj), in cells, that re-centres on (x, y): whole cells, or (0, 0) while
+        it is farther than ``margin`` cells from every side; when ``continuous``, the exact
+        shift that puts (x, y) at the centre, every time."""
+        out: list[float] = []
         for a, pos in enumerate((x_m, y_m)):
             n = self.cells[a]
             c = (pos - self.origin_m[a]) / self.cell_size_m
-            out.append(0 if margin <= c <= n - margin else round(c - 0.5 * n))
+            if self.continuous:
+                out.append(c - 0.5 * n)
+            else:
+                out.append(0 if margin <= c <= n - margin else round(c - 0.5 * n))
         return out[0], out[1]
 
-    def shift(self, di: int, dj: int) -> None:
-        """Move the window by whole cells."""
-        self.origin_texel = (self.origin_texel[0] + di * self.k, self.origin_texel[1] + dj * self.k)
+    def shift(self, di: float, dj: float) -> None:
+        """Move the window by (di, dj) cells (whole cells unless ``continuous``)."""
+        k = self.k
+        self.origin_texel = (self.origin_texel[0] + di * k, self.origin_texel[1] + dj * k)
 
     def on_canvas_range(self) -> tuple[int, int, int, int] | None:
         """Columns wholly on the canvas: (i0, i1, j0, j1), half-open, or None."""
         bounds = []
         for a in range(2):
             o, n, size = self.origin_texel[a], self.cells[a], self.pixels[a]
-            lo = max(0, math.ceil(-o / self.k))
-            hi = min(n, (size - o) // self.k)
+            lo = max(0, math.ceil(-o / self.k - EDGE_TOLERANCE))
+            hi = min(n, math.floor((size - o) / self.k + EDGE_TOLERANCE))
             if hi <= lo:
                 return None
             bounds += [lo, hi]
@@ -178,10 +199,10 @@ class ColumnWindow:
         k, (w, h) = self.k, self.pixels
         m = reach_cells(k, self.kernel)
         bx, by = (math.ceil(abs(v)) + 1 if abs(v) >= 0.5 else 0 for v in behind)
-        x0 = max(0, ox + (i0 - m) * k - (bx if behind[0] > 0 else 0))
-        x1 = min(w, ox + (i1 + m) * k + (bx if behind[0] < 0 else 0))
-        y0 = max(0, oy + (j0 - m) * k - (by if behind[1] > 0 else 0))
-        y1 = min(h, oy + (j1 + m) * k + (by if behind[1] < 0 else 0))
+        x0 = max(0, _floor(ox + (i0 - m) * k) - (bx if behind[0] > 0 else 0))
+        x1 = min(w, _ceil(ox + (i1 + m) * k) + (bx if behind[0] < 0 else 0))
+        y0 = max(0, _floor(oy + (j0 - m) * k) - (by if behind[1] > 0 else 0))
+        y1 = min(h, _ceil(oy + (j1 + m) * k) + (by if behind[1] < 0 else 0))
         return x0, y0, x1, y1
 
     def _weights(
@@ -292,13 +313,25 @@ class ColumnWindow:
             canvas.mark_dirty(*(int(v) for v in bounds))
 
 
+#: Texels' worth of round-off under which a window's edge counts as on a texel boundary.
+EDGE_TOLERANCE = 1e-9
+
+
+def _floor(v: float) -> int:
+    return math.floor(v + EDGE_TOLERANCE)
+
+
+def _ceil(v: float) -> int:
+    return math.ceil(v - EDGE_TOLERANCE)
+
+
 def reach_cells(k: int, kernel: str = "bspline") -> int:
     """Cells beyond its own block that a column's weights reach (module docstring)."""
     return 2 if kernel == "bspline" and k > 1 else 1
 
 
 def transfer_weights(
-    origin: int, k: int, i0: int, i1: int, t0: int, t1: int, kernel: str = "bspline"
+    origin: float, k: int, i0: int, i1: int, t0: int, t1: int, kernel: str = "bspline"
 ) -> np.ndarray:
     """(i1 - i0, t1 - t0) weights ``B(|x_t - c_i| / k)`` (module docstring; the tent
     ``max(0, 1 - |t|)`` for ``kernel = "tent"`` or ``k = 1``) of texels ``t0..t1-1`` (centres
@@ -315,11 +348,12 @@ def transfer_weights(
 
 
 @functools.lru_cache(maxsize=64)
-def axis_weights(offset: int, k: int, columns: int, texels: int, kernel: str) -> AxisWeights:
+def axis_weights(offset: float, k: int, columns: int, texels: int, kernel: str) -> AxisWeights:
     """:class:`AxisWeights` of ``columns`` columns over ``texels`` texels, the first column's
-    block starting ``offset`` texels after the first texel: the weights depend on nothing else,
-    and a window that moves by whole cells meets the same few again and again (kept, not built
-    anew with their sparse matrices: 0.4 ms each on an A4 canvas at 0.1 mm). Read only."""
+    block starting ``offset`` texels after the first texel (a fraction of a texel for a window
+    that follows continuously): the weights depend on nothing else, and a window that moves by
+    whole cells meets the same few again and again (kept, not built anew with their sparse
+    matrices: 0.4 ms each on an A4 canvas at 0.1 mm). Read only."""
     return AxisWeights(transfer_weights(offset, k, 0, columns, 0, texels, kernel))
 
 

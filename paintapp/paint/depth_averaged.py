@@ -111,7 +111,7 @@ class PaintGridDepthAveraged(PaintModel):
             self.solver_settings(),
         )
 
-    def _shifted(self, di: int, dj: int) -> None:
+    def _shifted(self, di: float, dj: float) -> None:
         if self.sim is not None:
             self.sim.shift((di, dj))
 

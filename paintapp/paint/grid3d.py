@@ -84,6 +84,7 @@ class PaintGrid3D(PaintModel):
     """
 
     name = "grid3d"
+    follows_continuously = True
 
     def __init__(
         self,
@@ -137,7 +138,7 @@ class PaintGrid3D(PaintModel):
             self.solver_settings(),
         )
 
-    def _shifted(self, di: int, dj: int) -> None:
+    def _shifted(self, di: float, dj: float) -> None:
         if self.sim is not None:
             self.sim.shift((di, dj, 0))
 

@@ -147,6 +147,9 @@ class PaintModel(ABC):
     """
 
     name = "model"
+    #: Whether this model's grid can follow the tip continuously (:class:`PaintScene`'s
+    #: ``follow``).
+    follows_continuously = False
     #: Whether the paint closes over the tip's footprint at lift-off (a fluid does, a stamp not).
     settles_on_lift = True
 
@@ -166,7 +169,9 @@ class PaintModel(ABC):
         self.needs = needs or ForceNeeds()
         ref = reference_cells or cells_xy[0]
         k = cell_texels(brush_width_m(preset), square_texel_m(canvas), ref, scene.span)
-        self.window = ColumnWindow(canvas, cells_xy, k, scene.transfer)
+        self.window = ColumnWindow(
+            canvas, cells_xy, k, scene.transfer, continuous=self._continuous(scene)
+        )
         self.margin_cells = scaled_margin(scene.margin_cells, ref, cells_xy)
         self.pose: TipPose | None = None
         #: Direction of the tip's last lateral motion (canvas plane): the bristles' streaks
@@ -331,9 +336,15 @@ class PaintModel(ABC):
             },
         )
 
-    def follow(self, centre_m: np.ndarray) -> tuple[int, int]:
-        """Re-centre the window (and the fluid state) by whole cells if the tip at ``centre_m``
-        is within ``margin_cells`` (the scene's, scaled to a fitted grid) of a side; returns the shift (di, dj) in cells."""
+    def _continuous(self, scene: PaintScene) -> bool:
+        """Whether the window follows the tip continuously (:class:`PaintScene`'s ``follow``,
+        where this model can)."""
+        return self.follows_continuously and scene.follow == "continuous"
+
+    def follow(self, centre_m: np.ndarray) -> tuple[float, float]:
+        """Re-centre the window (and the fluid state) on the tip at ``centre_m``: exactly, when
+        it follows continuously; else by whole cells once the tip is within ``margin_cells`` (the
+        scene's, scaled to a fitted grid) of a side. Returns the shift (di, dj) in cells."""
         di, dj = self.window.recentre_offset(
             float(centre_m[0]), float(centre_m[1]), self.margin_cells
         )
@@ -398,8 +409,9 @@ class PaintModel(ABC):
         """Start a stroke at ``pose`` with the window already placed."""
 
     @abstractmethod
-    def _shifted(self, di: int, dj: int) -> None:
-        """The window moved by whole cells; move the model's grid with it."""
+    def _shifted(self, di: float, dj: float) -> None:
+        """The window moved by (di, dj) cells (whole cells unless it follows continuously); move
+        the model's grid with it."""
 
     @abstractmethod
     def _advance(

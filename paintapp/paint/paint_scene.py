@@ -70,6 +70,8 @@ TRANSFER_KERNELS = ("bspline", "tent")
 
 #: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
 SIDE_KINDS = ("slip", "open")
+#: How the paint grid follows the tip (:class:`PaintScene`'s ``follow``).
+FOLLOW_KINDS = ("cells", "continuous")
 #: How pushed paint finds room round the tip (:mod:`paintapp.paint.nearest_room`).
 PUSH_FILLS = ("distance", "rings")
 
@@ -135,6 +137,12 @@ class PaintScene:
             (a scene file's default: half the grid less one, so every step; the grid's sides
             are slip walls, and a tip whose leading face closes in on one between shifts pushes
             a bow wave that prints a tooth in its trail at every shift).
+        follow: how the grid follows the tip: ``"cells"`` (by whole cells, as ``margin_cells``
+            says; the default) or ``"continuous"`` (centred on it exactly at every step, its
+            corner anywhere between texels: the walls keep their distance from the tip, and
+            ``margin_cells`` does not apply; the 3D grid with slip sides and the columns'
+            transfer only; a fluid model chosen by ``"auto"`` that turns out depth-averaged
+            follows by cells).
         max_step_s: longest solver step, s; a longer gap between stylus samples is split.
         sides: the 3D grid's lateral sides: ``"slip"`` walls (the paint round the window at
             rest), or ``"open"`` (zero pressure; the paint that crosses them is laid on, or taken
@@ -180,6 +188,7 @@ class PaintScene:
     cells: tuple[int, int, int] = (32, 32, 12)
     span: float = 2.0
     margin_cells: int = 15
+    follow: str = "cells"
     sides: str = "slip"
     far_field_cells: int = 8
     max_step_s: float = 0.05
@@ -223,6 +232,25 @@ class PaintScene:
                 f"expected 0 <= margin_cells < half the grid ({min(nx, ny) // 2}), "
                 f"got {self.margin_cells}",
                 key="grid.margin_cells",
+            )
+        if self.follow not in FOLLOW_KINDS:
+            raise InputError(
+                f"expected one of {', '.join(FOLLOW_KINDS)}, got {self.follow!r}",
+                key="grid.follow",
+            )
+        if self.follow == "continuous" and (
+            self.fluid_model not in ("grid3d", "auto") or self.sides != "slip" or self.texel_flow
+        ):
+            if self.sides != "slip":
+                why = 'sides = "open"'
+            elif self.texel_flow:
+                why = "texel_flow = true"
+            else:
+                why = f"fluid_model = {self.fluid_model!r}"
+            raise InputError(
+                f'expected follow = "cells" with {why} (only the 3D grid with slip sides and '
+                "the columns' transfer follows the tip continuously)",
+                key="grid.follow",
             )
         if self.sides not in SIDE_KINDS:
             raise InputError(
@@ -285,6 +313,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         margin_cells=grid.integer(
             "margin_cells", max(0, min(cells[0], cells[1]) // 2 - 1), minimum=0
         ),
+        follow=grid.string("follow", "cells", choices=list(FOLLOW_KINDS)),
         sides=grid.string("sides", "slip", choices=list(SIDE_KINDS)),
         far_field_cells=grid.integer("far_field_cells", 8, minimum=1),
         max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),

@@ -50,7 +50,7 @@ class StampModel(PaintModel):
     def _reset(self, pose: TipPose) -> None:
         self._last_xy = np.array(pose.position_m[:2], dtype=float)
 
-    def _shifted(self, di: int, dj: int) -> None:
+    def _shifted(self, di: float, dj: float) -> None:
         pass
 
     def footprint(self, pose: TipPose, centre_m: np.ndarray) -> np.ndarray:

@@ -47,7 +47,7 @@ def columns_box(window: ColumnWindow) -> Box | None:
     r = window.on_canvas_range()
     if r is None:
         return None
-    (ox, oy), k = window.origin_texel, window.k
+    (ox, oy), k = window.whole_origin(), window.k
     return ox + r[0] * k, oy + r[2] * k, ox + r[1] * k, oy + r[3] * k
 
 
@@ -81,7 +81,7 @@ def flow_wet_paint(
     wetness = canvas.wetness[y0:y1, x0:x1]
     if not wetness.any():
         return 0
-    ux, vy = texel_face_velocity(face_u, face_v, window.origin_texel, window.k, region,
+    ux, vy = texel_face_velocity(face_u, face_v, window.whole_origin(), window.k, region,
                                  window.texel_m)  # fmt: skip
     n = substeps_needed(ux, vy, dt_s)
     crop = _paint_box(wetness > 0.0, n + 1)

@@ -1,4 +1,4 @@
-"""``paintapp figures sides``: the three drags' plot and figures; bad outputs refused first."""
+"""``paintapp figures sides``: the four drags' plot and figures; bad outputs refused first."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from paintapp.figures import sides
 
 
 def test_the_figure_is_written_with_a_line_per_grid(tmp_path, capsys, monkeypatch):
-    short = [(label, kind, cells, span) for label, kind, cells, span in sides.CASES]
-    short[-1] = ("slip walls, 48 cells (reference)", "slip", 48, 3.0)  # faster than 64 cells
+    short = list(sides.CASES)
+    short[-1] = ("slip walls, 48 cells (reference)", "slip", 48, 3.0, "cells")  # faster than 64
     monkeypatch.setattr(sides, "CASES", tuple(short))
     out = tmp_path / "sides.png"
     assert main(["figures", "sides", "--out", str(out)]) == 0
