@@ -2,7 +2,9 @@
 
 The grid's cells are cubes of ``h = k * texel`` (a whole number ``k`` of canvas texels), and their
 columns sit on a lattice of ``k x k`` texel blocks fixed to the canvas (block corners at multiples
-of ``k`` texels), so re-centring the grid by whole cells keeps every column on the same texels.
+of ``k`` texels), so re-centring the grid by whole cells keeps every column on the same texels. A
+window that follows the tip continuously has its corner anywhere, between texels; the weights
+below stay a partition of unity and sum to ``k`` over a column's texels at any offset.
 ``k`` is chosen so that the grid spans ``span`` brush widths (:func:`cell_texels`).
 
 Paint in the grid is the *wet* (mobile) part of the canvas paint: a texel with paint ``P_p``
@@ -98,8 +100,9 @@ class ColumnWindow:
         cells_xy: (nx, ny) columns.
         texels_per_cell: ``k``.
         kernel: ``"bspline"`` or ``"tent"`` (:func:`transfer_weights`).
-        continuous: the window follows a point exactly (its corner anywhere, to a fraction of a
-            texel: :meth:`place` and :meth:`recentre_offset`), not by whole cells.
+        continuous: the window follows a point exactly, keeping it at the centre of its
+            middle cell (its corner anywhere, to a fraction of a texel: :meth:`place` and
+            :meth:`recentre_offset`), not by whole cells.
     """
 
     def __init__(
@@ -142,23 +145,31 @@ class ColumnWindow:
         """Centre the window on (x, y) metres (snapped to the block lattice unless
         ``continuous``)."""
         k = self.k
-        ox = x_m / self.texel_m / k - 0.5 * self.cells[0]
-        oy = y_m / self.texel_m / k - 0.5 * self.cells[1]
         if self.continuous:
+            ox = x_m / self.texel_m / k - self._centre_cell(0)
+            oy = y_m / self.texel_m / k - self._centre_cell(1)
             self.origin_texel = (k * ox, k * oy)
         else:
+            ox = x_m / self.texel_m / k - 0.5 * self.cells[0]
+            oy = y_m / self.texel_m / k - 0.5 * self.cells[1]
             self.origin_texel = (k * round(ox), k * round(oy))
+
+    def _centre_cell(self, axis: int) -> float:
+        """Where a window that follows continuously keeps the point it follows, in cells from
+        its corner: the centre of its middle cell (a point between two cells would put a tip
+        thinner than a cell across both, and half of each would never be its)."""
+        return self.cells[axis] // 2 + 0.5
 
     def recentre_offset(self, x_m: float, y_m: float, margin: int) -> tuple[float, float]:
         """The shift (di, dj), in cells, that re-centres on (x, y): whole cells, or (0, 0) while
         it is farther than ``margin`` cells from every side; when ``continuous``, the exact
-        shift that puts (x, y) at the centre, every time."""
+        shift that puts (x, y) at the centre of the middle cell, every time."""
         out: list[float] = []
         for a, pos in enumerate((x_m, y_m)):
             n = self.cells[a]
             c = (pos - self.origin_m[a]) / self.cell_size_m
             if self.continuous:
-                out.append(c - 0.5 * n)
+                out.append(c - self._centre_cell(a))
             else:
                 out.append(0 if margin <= c <= n - margin else round(c - 0.5 * n))
         return out[0], out[1]

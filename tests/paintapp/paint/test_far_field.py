@@ -111,12 +111,14 @@ def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s
 
     rms = [float(np.sqrt(np.mean((shoulders(r) - shoulders(wide)) ** 2))) for r in (slip, open_)]
     assert max(rms) < 15e-6
-    # The same slip walls, following the tip continuously: the walls' distance
-    # no longer steps, and with it goes the buzz (measured: drag 1.1, lift 0.3 mN against 4.4
-    # and 3.9 by whole cells), while the mean force stays the walls' (-67.0 against -67.3 mN).
+    # The same slip walls, following the tip continuously: the walls' distance no longer steps,
+    # and with it goes the buzz (measured: drag 1.2, lift 0.35 mN against 4.4 and 3.9 by whole
+    # cells); the tip's place within its cell is then always the same, and the drag (56.1 mN,
+    # 9 % over the wide grid's against 31 %) and the lift (-4.8 mN) are those of that place.
     for axis in (0, 2):
         assert following.jitter()[axis] < 0.5 * slip.jitter()[axis]
-    assert abs(following.mean_force()[0] / slip.mean_force()[0] - 1.0) < 0.05
+    ref = wide.mean_force()[0]
+    assert abs(following.mean_force()[0] - ref) < abs(slip.mean_force()[0] - ref)
 
 
 def test_open_sides_at_the_canvas_s_edge_keep_the_paint(monkeypatch):
