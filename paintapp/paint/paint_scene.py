@@ -139,7 +139,7 @@ class PaintScene:
             a bow wave that prints a tooth in its trail at every shift).
         follow: how the grid follows the tip: ``"cells"`` (by whole cells, as ``margin_cells``
             says; the default) or ``"continuous"`` (the tip at the centre of its middle cell at
-            every step, its corner anywhere between texels: the walls keep their distance from the tip, and
+            every step, its corner anywhere between texels: the tip keeps its place in its cell, and
             ``margin_cells`` does not apply; the 3D grid with slip sides and the columns'
             transfer only; a fluid model chosen by ``"auto"`` that turns out depth-averaged
             follows by cells).

@@ -66,10 +66,12 @@ def test_the_fluid_moves_by_fractions_of_a_cell_as_a_whole():
 @pytest.mark.slow
 def test_a_grid_that_follows_the_tip_prints_no_lumps_where_whole_cells_step():
     """The square probe at 0.076 m/s and a slope of 1/7.5 moves 3.14 of its 0.2 mm cells a
-    sub-step: by whole cells, the grid's slip walls come a cell nearer or go a cell farther every
-    7.2 sub-steps (45.6 texels of travel), and its trail carries a lump there (measured: 0.486
-    against a floor of 0.197 at 44 texels); following the tip, the walls keep their distance and
-    the lumps go (0.133 against 0.082: the level the worst of ten periods reaches by chance)."""
+    sub-step: by whole cells, its place within its cell comes back every 7.2 sub-steps (45.6
+    texels of travel), the paint it leaves depends on that place, and its trail carries a lump
+    there (measured: 0.486 against a floor of 0.197 at 44 texels); following the tip, its place
+    stays put and the lumps go (0.133 against 0.082: the level the worst of ten periods reaches
+    by chance). (Not the slip walls, which jump at the same moments: on a grid twice as long or
+    twice as wide the lumps stay; see the README.)"""
     found = {}
     for follow in ("cells", "continuous"):
         height, points = diagonal_drag("distance", follow)
