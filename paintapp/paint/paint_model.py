@@ -39,7 +39,7 @@ from brushes import BrushPreset, PaintReservoir, Section, TipPose, voxelize
 from common.tilt import yaw_angle
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
-from paintapp.paint.columns import ColumnWindow, cell_texels, square_texel_m
+from paintapp.paint.columns import SWEEP_MIN_TEXELS, ColumnWindow, cell_texels, square_texel_m
 from paintapp.paint.exchange import ExchangeReport, plough_weights
 from paintapp.paint.paint_scene import PaintScene
 from solver.grid import Grid
@@ -170,7 +170,7 @@ class PaintModel(ABC):
         ref = reference_cells or cells_xy[0]
         k = cell_texels(brush_width_m(preset), square_texel_m(canvas), ref, scene.span)
         self.window = ColumnWindow(
-            canvas, cells_xy, k, scene.transfer, continuous=self._continuous(scene)
+            canvas, cells_xy, k, scene.transfer, continuous=self._continuous(scene, k)
         )
         self.margin_cells = scaled_margin(scene.margin_cells, ref, cells_xy)
         self.pose: TipPose | None = None
@@ -336,10 +336,14 @@ class PaintModel(ABC):
             },
         )
 
-    def _continuous(self, scene: PaintScene) -> bool:
-        """Whether the window follows the tip continuously (:class:`PaintScene`'s ``follow``,
-        where this model can)."""
-        return self.follows_continuously and scene.follow == "continuous"
+    def _continuous(self, scene: PaintScene, k: int) -> bool:
+        """Whether the window of ``k``-texel cells follows the tip continuously
+        (:class:`PaintScene`'s ``follow``, where this model can). Not with fewer than
+        ``SWEEP_MIN_TEXELS`` texels a cell: nothing lays a step's change along the tip's path
+        there, and the window's corner between texels left the square probe's fast trail on
+        one texel a cell combed at its sample period (0.31 of its height, against 0.12 by whole
+        cells: ``tests/paintapp/paint/test_trail.py``)."""
+        return self.follows_continuously and scene.follow == "continuous" and k >= SWEEP_MIN_TEXELS
 
     def follow(self, centre_m: np.ndarray) -> tuple[float, float]:
         """Re-centre the window (and the fluid state) on the tip at ``centre_m``: exactly, when

@@ -142,7 +142,7 @@ class PaintScene:
             every step, its corner anywhere between texels: the tip keeps its place in its cell, and
             ``margin_cells`` does not apply; the 3D grid with slip sides and the columns'
             transfer only; a fluid model chosen by ``"auto"`` that turns out depth-averaged
-            follows by cells).
+            follows by cells, and so does a grid whose cells are a single texel).
         max_step_s: longest solver step, s; a longer gap between stylus samples is split.
         sides: the 3D grid's lateral sides: ``"slip"`` walls (the paint round the window at
             rest), or ``"open"`` (zero pressure; the paint that crosses them is laid on, or taken

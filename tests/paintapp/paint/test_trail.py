@@ -134,10 +134,11 @@ def scrape(
     substeps: int | None = None,
     sweep: bool = True,
     margin_cells: int | None = None,
+    follow: str = "cells",
 ) -> np.ndarray:
     """Drag the square probe (one texel per cell) at 0.076 m/s through 0.5 mm of wet red: 5 cells
     of travel per 60 Hz sample. Returns the paint height along the trail's centre line."""
-    scene = dataclasses.replace(load_paint_scene("default"), sweep=sweep)
+    scene = dataclasses.replace(load_paint_scene("default"), sweep=sweep, follow=follow)
     if margin_cells is not None:
         scene = dataclasses.replace(scene, margin_cells=margin_cells)
     if travel_cells is not None:
@@ -170,6 +171,14 @@ def test_a_fast_rigid_tip_leaves_a_trail_without_a_comb():
     laid by distance (the defaults; 0.081 and 0.109 by rings), 0.171 and 0.112 with the old
     margin of 10 cells (by rings)."""
     rough, teeth = comb(scrape())
+    assert teeth < 0.15
+    assert rough < 0.12
+
+
+def test_a_grid_asked_to_follow_continuously_follows_by_cells_where_a_cell_is_one_texel():
+    """With one texel a cell nothing lays a step's change along the path, and a window whose
+    corner lies between texels combed this trail at its sample period (measured: 0.31)."""
+    rough, teeth = comb(scrape(follow="continuous"))
     assert teeth < 0.15
     assert rough < 0.12
 
