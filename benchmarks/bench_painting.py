@@ -39,7 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "cadmium_red", "titanium_white")
-SCENES = ("default", "push_rings", "open_sides", "follow_tip", "thin_glaze", "no_fluid")
+SCENES = ("default", "push_rings", "open_sides", "follow_cells", "thin_glaze", "no_fluid")
 PHASES = ("read", "solver", "exchange", "transport", "write")
 #: Canvas width in metres for each pixel count (a 20 cm and a 40 cm canvas).
 CANVAS_M = {1024: 0.2, 4096: 0.4}

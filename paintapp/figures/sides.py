@@ -2,9 +2,9 @@
 
 The square probe dragged at 0.076 m/s through 0.5 mm of wet cadmium red (0.1 mm texels, two a
 cell), four times: the default grid (32 x 32 x 12 cells over two brush widths) with free-slip
-lateral walls re-centred on the tip by whole cells (the default, ``follow = "cells"``), the same
-grid following the tip continuously (``follow = "continuous"``: the tip keeps its place in its
-cell, and the walls their distance), the same grid with open sides (``sides = "open"``,
+lateral walls re-centred on the tip by whole cells (``follow = "cells"``, the default before),
+the same grid following the tip continuously (``follow = "continuous"``, the default now: the
+tip keeps its place in its cell, and the walls their distance), the same grid with open sides (``sides = "open"``,
 :mod:`paintapp.paint.far_field`), and a slip grid twice as wide (64 x 64 x 12 over four brush
 widths, the same cells, by whole cells) as the reference the narrow ones should come near. The plot shows the drag and the lift along the
 stroke and the paint height across it (the mean over the middle of the stroke); the mean forces

@@ -65,6 +65,10 @@ SWEEP_MIN_TEXELS = 2
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
 FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
+#: Thinnest film (m) a texel at the paint's edge may be left with; thinner ones go to the
+#: texel's thickest neighbour (:func:`paintapp.paint.texel_transfer.gather_fringe_films`).
+#: Far under anything the eye sees; any of 1e-10 to 1e-8 m closes the holes measured.
+FRINGE_FLOOR_M = 1e-9
 
 
 class TexelWeights(Protocol):
@@ -317,6 +321,8 @@ class ColumnWindow:
                                  touched, total, float(sweep_texels[0]), float(sweep_texels[1]),
                                  self.k / SWEEP_SAMPLES_PER_CELL)  # fmt: skip
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
+        kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
+        kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)
         bounds = np.zeros(4, np.int64)
         kernels.store_texels(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile, touched,
                              MAX_PAINT_M, bounds)  # fmt: skip

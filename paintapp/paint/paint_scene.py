@@ -138,8 +138,9 @@ class PaintScene:
             are slip walls, and a tip whose leading face closes in on one between shifts pushes
             a bow wave that prints a tooth in its trail at every shift).
         follow: how the grid follows the tip: ``"cells"`` (by whole cells, as ``margin_cells``
-            says; the default) or ``"continuous"`` (the tip at the centre of its middle cell at
-            every step, its corner anywhere between texels: the tip keeps its place in its cell, and
+            says; a scene file without the key) or ``"continuous"`` (the bundled ``default``
+            and ``auto`` scenes: the tip at the centre of its middle cell at every step, its
+            corner anywhere between texels: the tip keeps its place in its cell, and
             ``margin_cells`` does not apply; the 3D grid with slip sides and the columns'
             transfer only; a fluid model chosen by ``"auto"`` that turns out depth-averaged
             follows by cells, and so does a grid whose cells are a single texel).

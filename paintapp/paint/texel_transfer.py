@@ -27,6 +27,10 @@ TAPS = 3
 #: Most samples along the path that a swept change is averaged over.
 MAX_SWEEP_SAMPLES = 4
 
+#: What :func:`fill_thin_holes` lifts a hole's paint to, in film floors: clear of the floor
+#: once stored as float32.
+HOLE_FILL = 1.25
+
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
 
@@ -188,7 +192,7 @@ def close_pinholes(new_mobile, touched, total, floor):
     touched texel off the box's edge whose paint ``total`` (dry + wet, all pigments) is at most
     ``floor`` while its eight neighbours' all exceed twice that gets 1/9 of each neighbour's wet
     paint, per pigment (each neighbour gives at most 8/9 of it: conserved, never negative).
-    Returns how many were filled; ``total`` is not updated."""
+    Returns how many were filled; ``total`` is updated."""
     n_p, ny, nx = new_mobile.shape
     if ny < 3 or nx < 3:
         return 0
@@ -219,12 +223,148 @@ def close_pinholes(new_mobile, touched, total, floor):
         for x in range(nx):
             if gives[y, x] > 0.0:
                 for p in range(n_p):
-                    new_mobile[p, y, x] *= 1.0 - gives[y, x] / 9.0
+                    given = new_mobile[p, y, x] * gives[y, x] / 9.0
+                    new_mobile[p, y, x] -= given
+                    total[y, x] -= given
                 touched[y, x] = True
     for n, (y, x) in enumerate(pins):
         for p in range(n_p):
             new_mobile[p, y, x] += gains[n, p]
+            total[y, x] += gains[n, p]
     return len(pins)
+
+
+@njit(cache=True, nogil=True)
+def fill_thin_holes(new_mobile, touched, total, floor):
+    """Fill in place the holes that :func:`close_pinholes` leaves: texels whose paint ``total``
+    (dry + wet, all pigments) is at most ``floor`` and that painted texels enclose within the
+    box (no path through four-neighbours at most ``floor`` to the box's edge; changed or not:
+    their neighbours' change may have closed round them). Each takes from its thickest
+    neighbour of eight the wet paint (in that neighbour's pigment shares) that lifts it to
+    ``HOLE_FILL`` times ``floor``, where the neighbour keeps more than that itself; those
+    beside paint first, then those beside the filled ones. (Films of about 0.1 um at a stroke's
+    fringe, a texel or two among thicker ones.) Conserved, never negative; ``total`` updated.
+    Returns how many were filled."""
+    n_p, ny, nx = new_mobile.shape
+    open_ = np.zeros((ny, nx), dtype=np.bool_)
+    stack = []
+    for y in range(ny):
+        for x in range(nx):
+            if (y == 0 or x == 0 or y == ny - 1 or x == nx - 1) and total[y, x] <= floor:
+                open_[y, x] = True
+                stack.append((y, x))
+    while len(stack) > 0:
+        y, x = stack.pop()
+        for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+            yy, xx = y + dy, x + dx
+            if 0 <= yy < ny and 0 <= xx < nx and not open_[yy, xx] and total[yy, xx] <= floor:
+                open_[yy, xx] = True
+                stack.append((yy, xx))
+    holes = []
+    for y in range(1, ny - 1):
+        for x in range(1, nx - 1):
+            if total[y, x] <= floor and not open_[y, x]:
+                holes.append((y, x))
+    target = HOLE_FILL * floor
+    filled = 0
+    progress = True
+    while progress:
+        progress = False
+        for n in range(len(holes)):
+            y, x = holes[n]
+            t = total[y, x]
+            if t > floor:
+                continue
+            best, by, bx = 0.0, -1, -1
+            for dy in range(-1, 2):
+                for dx in range(-1, 2):
+                    if (dy != 0 or dx != 0) and total[y + dy, x + dx] > best:
+                        best, by, bx = total[y + dy, x + dx], y + dy, x + dx
+            need = target - t
+            if by < 0 or best - need <= target:
+                continue
+            wet = 0.0
+            for p in range(n_p):
+                wet += new_mobile[p, by, bx]
+            if wet < need:
+                continue
+            for p in range(n_p):
+                m = new_mobile[p, by, bx] * (need / wet)
+                new_mobile[p, by, bx] -= m
+                new_mobile[p, y, x] += m
+            total[by, bx] -= need
+            total[y, x] += need
+            touched[by, bx] = True
+            touched[y, x] = True
+            filled += 1
+            progress = True
+    return filled
+
+
+@njit(cache=True, nogil=True)
+def gather_fringe_films(new_mobile, touched, total, floor):
+    """Take the thinnest films off the paint's edge, in place: a touched texel whose paint
+    ``total`` (dry + wet, all pigments) is above 0 but under ``floor``, with an unpainted texel
+    beside it (one of its four edge neighbours at 0), gives its wet paint, per pigment, to its
+    thickest neighbour of eight, if that one is thicker; thinnest first, each move updating
+    ``total``, and again while a pass moved any (an emptied texel puts the next at the edge).
+    A column emptied under the grid's film floor while its neighbours' transfer tails still
+    reach round it left rings of films of 1e-13 to 1e-9 m round an empty block: holes inside
+    the paint. Only a texel beside an unpainted one gives, so an emptied texel joins a region
+    already unpainted and opens no new hole. Conserved, never negative. Returns the moves."""
+    n_p, ny, nx = new_mobile.shape
+    gave = 0
+    while True:
+        ys = []
+        xs = []
+        thin = []
+        for y in range(ny):
+            for x in range(nx):
+                if touched[y, x] and 0.0 < total[y, x] < floor:
+                    ys.append(y)
+                    xs.append(x)
+                    thin.append(total[y, x])
+        if len(thin) == 0:
+            return gave
+        moves = 0
+        for n in np.argsort(np.array(thin)):
+            y, x = ys[n], xs[n]
+            t = total[y, x]
+            if not 0.0 < t < floor:
+                continue
+            edge = (
+                (y > 0 and total[y - 1, x] <= 0.0)
+                or (y < ny - 1 and total[y + 1, x] <= 0.0)
+                or (x > 0 and total[y, x - 1] <= 0.0)
+                or (x < nx - 1 and total[y, x + 1] <= 0.0)
+            )
+            if not edge:
+                continue
+            best, by, bx = t, -1, -1
+            for dy in range(-1, 2):
+                for dx in range(-1, 2):
+                    yy, xx = y + dy, x + dx
+                    if (dy != 0 or dx != 0) and 0 <= yy < ny and 0 <= xx < nx:
+                        if total[yy, xx] > best:
+                            best, by, bx = total[yy, xx], yy, xx
+            if by < 0:
+                continue
+            moved = 0.0
+            for p in range(n_p):
+                m = new_mobile[p, y, x]
+                new_mobile[p, by, bx] += m
+                new_mobile[p, y, x] = 0.0
+                moved += m
+            if moved <= 0.0:
+                continue
+            total[by, bx] += moved
+            rest = t - moved  # its dry paint, or round-off of nothing
+            total[y, x] = rest if rest > 1e-9 * t else 0.0
+            touched[by, bx] = True
+            moves += 1
+        if moves == 0:
+            return gave
+        gave += moves
 
 
 @njit(cache=True, nogil=True)

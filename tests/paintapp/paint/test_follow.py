@@ -84,8 +84,11 @@ def test_a_grid_that_follows_the_tip_prints_no_lumps_where_whole_cells_step():
 
 def test_a_scene_s_follow_is_checked():
     scene = parse_paint_scene({"grid": {"follow": "continuous"}}, "s")
-    assert scene.follow == "continuous" and load_paint_scene("default").follow == "cells"
-    assert load_paint_scene("follow_tip").follow == "continuous"
+    assert scene.follow == "continuous" and load_paint_scene("default").follow == "continuous"
+    assert (
+        load_paint_scene("follow_cells").follow == "cells"
+        and parse_paint_scene({}, "s").follow == "cells"
+    )
     with pytest.raises(InputError, match="cells, continuous"):
         parse_paint_scene({"grid": {"follow": "smooth"}}, "s")
     for table, why in (

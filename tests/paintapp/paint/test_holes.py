@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.ndimage import binary_fill_holes, maximum_filter
 
 from brushes import PaintReservoir
 from paintapp.canvas.lattice import count_holes
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.paint_model import PaintModel
-from paintapp.paint.texel_transfer import close_pinholes
+from paintapp.paint.texel_transfer import close_pinholes, gather_fringe_films
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import paint, small_scene
 from tests.support.demo_strokes import StrokeSpec
@@ -76,8 +79,9 @@ def test_a_pinhole_is_filled_from_its_neighbours_conserving_each_pigment():
     mobile[:, 4, 4] = 1e-9  # a pinhole
     mobile[:, 0, 0] = 0.0  # on the box's edge: left alone
     total = mobile.sum(axis=0)  # no dry paint under the texels
-    out, changed = mobile.copy(), np.ones((9, 9), bool)
-    assert close_pinholes(out, changed, total, FILM_FLOOR_M) == 1
+    out, changed, kept = mobile.copy(), np.ones((9, 9), bool), total.copy()
+    assert close_pinholes(out, changed, kept, FILM_FLOOR_M) == 1
+    np.testing.assert_allclose(kept, out.sum(axis=0), rtol=1e-12)  # the totals follow the move
     np.testing.assert_allclose(out.sum(axis=(1, 2)), mobile.sum(axis=(1, 2)), rtol=1e-12)
     assert out.min() >= 0.0 and out[:, 4, 4].sum() > FILM_FLOOR_M
     neighbours = mobile[:, 3:6, 3:6].sum(axis=(1, 2)) - mobile[:, 4, 4]
@@ -91,6 +95,60 @@ def test_a_pinhole_is_filled_from_its_neighbours_conserving_each_pigment():
     same, changed = mobile.copy(), np.ones((9, 9), bool)
     assert close_pinholes(same, changed, under_dry, FILM_FLOOR_M) == 0
     assert np.array_equal(same, mobile)
+
+
+def test_a_fringe_film_goes_to_its_thickest_neighbour_and_an_inner_one_stays():
+    floor = 1e-9
+    mobile = np.zeros((2, 5, 7))
+    mobile[:, 1:4, 1:6] = 1e-6  # a painted block
+    mobile[:, 2, 6] = [2e-10, 1e-10]  # a thin film at its edge, beside unpainted texels
+    mobile[:, 1, 5] = 4e-6  # the edge texel's thickest neighbour
+    mobile[:, 2, 3] = [3e-10, 3e-10]  # a thin film inside the block: no unpainted texel beside it
+    mobile[:, 0, 0] = 5e-10  # a thin film at the edge of a texel that did not change
+    total = mobile.sum(axis=0)
+    out, touched = mobile.copy(), np.ones((5, 7), bool)
+    touched[0, 0] = False
+    assert gather_fringe_films(out, touched, total, floor) == 1
+    np.testing.assert_allclose(out.sum(axis=(1, 2)), mobile.sum(axis=(1, 2)), rtol=1e-12)
+    assert out[:, 2, 6].sum() == 0.0 and total[2, 6] == 0.0
+    np.testing.assert_array_equal(out[:, 0, 0], [5e-10, 5e-10])
+    np.testing.assert_allclose(out[:, 1, 5], [4e-6 + 2e-10, 4e-6 + 1e-10], rtol=1e-12)
+    np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)
+    np.testing.assert_array_equal(out[:, 2, 3], [3e-10, 3e-10])
+    assert touched[1, 5]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.floats(0.05, 0.6))
+def test_gathering_fringe_films_opens_no_hole_and_conserves_each_pigment(seed, thin_share):
+    """Random paint of thick, thin (under the floor) and no films: the gathering keeps each
+    pigment's total, leaves nothing negative and no thin film beside an unpainted texel, and
+    finds no more unpainted texels enclosed by paint than it was given (here none: the holes
+    it was given are filled first); a thin film left beside an unpainted texel has no thicker
+    neighbour to go to."""
+    rng = np.random.default_rng(seed)
+    shape = (2, 24, 24)
+    kind = rng.choice(3, shape[1:], p=[0.3, thin_share, 0.7 - thin_share])  # none, thin, thick
+    mobile = np.where(kind == 1, rng.uniform(1e-13, 1e-9, shape), rng.uniform(1e-7, 1e-5, shape))
+    mobile = np.where(kind == 0, 0.0, mobile) / 2.0
+    painted = kind > 0
+    mobile[:, binary_fill_holes(painted) & ~painted] = 1e-6  # start with no holes
+    total = mobile.sum(axis=0)
+    out, touched = mobile.copy(), np.ones(shape[1:], bool)
+    gather_fringe_films(out, touched, total, 1e-9)
+    np.testing.assert_allclose(out.sum(axis=(1, 2)), mobile.sum(axis=(1, 2)), rtol=1e-12)
+    assert out.min() >= 0.0
+    np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)
+    now = out.sum(axis=0) > 0.0
+    assert not (binary_fill_holes(now) & ~now).any()
+    empty = np.pad(~now, 1)  # beyond the box counts as not known: no edge there
+    empty[0, :] = empty[-1, :] = empty[:, 0] = empty[:, -1] = False
+    beside = empty[:-2, 1:-1] | empty[2:, 1:-1] | empty[1:-1, :-2] | empty[1:-1, 2:]
+    left = out.sum(axis=0)
+    ring = np.ones((3, 3), bool)
+    ring[1, 1] = False
+    thickest_beside = maximum_filter(left, footprint=ring, mode="constant", cval=0.0)
+    assert not (now & (left < 1e-9) & beside & (thickest_beside > left)).any()
 
 
 def test_settle_on_lift_is_a_scene_switch_and_a_bad_value_names_the_key():

@@ -130,7 +130,9 @@ def test_non_square_texels_are_refused():
 
 def test_grid_recentres_by_whole_cells_and_keeps_its_fluid_state():
     canvas = painted_canvas(2)
-    scene = dataclasses.replace(load_paint_scene(), cells=(16, 16, 8), margin_cells=4)
+    scene = dataclasses.replace(
+        load_paint_scene(), cells=(16, 16, 8), margin_cells=4, follow="cells"
+    )
     preset = load_preset_named("round_small", BRUSHES)
     model = PaintGrid3D(scene, canvas, preset)
     tracker = TipTracker(preset)

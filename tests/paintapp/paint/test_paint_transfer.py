@@ -158,7 +158,7 @@ def test_no_texel_is_left_wet_without_paint(scene):
             base, choose=dataclasses.replace(base.choose, stokes_below_re=0.1)
         )
     if scene == "texel_flow":  # the grid's flow moves the texels' paint (paintapp.paint.wet_flow)
-        base = dataclasses.replace(base, texel_flow=True)
+        base = dataclasses.replace(base, texel_flow=True, follow="cells")
     canvas = Canvas((160, 96), (0.04, 0.024), (BLUE,))
     session = PaintingSession(canvas, "flat_wide", base)
     session.load_pigment(BLUE, 3e-8)
@@ -174,7 +174,7 @@ def flat_stroke(transfer: str) -> tuple[np.ndarray, int]:
     measured: re-centred every step the tent's band is 44 texels wide and the spline's 52, their
     lattice ratios 4.55 and 1.34 (measured)."""
     canvas = Canvas((160, 96), (0.04, 0.024), (BLUE,))
-    scene = dataclasses.replace(small_scene(), transfer=transfer, margin_cells=6)
+    scene = dataclasses.replace(small_scene(), transfer=transfer, margin_cells=6, follow="cells")
     session = PaintingSession(canvas, "flat_wide", scene)
     session.load_pigment(BLUE, 3e-8)
     for sample in stroke_samples(StrokeSpec((0.006, 0.012), (0.034, 0.012), 0.6, 0.8), 0.0):

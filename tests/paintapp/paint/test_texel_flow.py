@@ -144,7 +144,7 @@ def coverage(canvas: Canvas) -> np.ndarray:
 
 
 def test_a_straight_stroke_carries_no_cell_lattice():
-    scene = dataclasses.replace(small_scene(), texel_flow=True)
+    scene = dataclasses.replace(small_scene(), texel_flow=True, follow="cells")
     canvas, k = diagonal_stroke(scene)
     assert lattice_ratio(canvas.height_m.astype(np.float64), k) <= 1.15
     # The colour's edge, with the flow and with the columns' transfer alone (the columns' tent
@@ -187,7 +187,7 @@ def test_the_thin_edge_runs_back_whole_and_leaves_no_hole():
 def test_a_flowed_stroke_has_no_holes_and_no_vanishing_films():
     canvas = Canvas((128, 128), (0.032, 0.032), (BLUE,))
     session = PaintingSession(
-        canvas, "round_small", dataclasses.replace(small_scene(), texel_flow=True)
+        canvas, "round_small", dataclasses.replace(small_scene(), texel_flow=True, follow="cells")
     )
     session.load_pigment(BLUE, 2e-8)
     paint(session, StrokeSpec((0.006, 0.009), (0.026, 0.015), 0.3, 0.8), 0.0)

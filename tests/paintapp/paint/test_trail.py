@@ -195,12 +195,16 @@ def test_a_third_of_a_cell_of_travel_per_step_smooths_the_trail_further():
     assert rough < 0.06
 
 
-def scrape_fine(sweep: bool, margin_cells: int | None = None) -> tuple[Canvas, PaintingSession]:
+def scrape_fine(
+    sweep: bool, margin_cells: int | None = None, follow: str | None = None
+) -> tuple[Canvas, PaintingSession]:
     """The probe dragged at 0.076 m/s through 0.5 mm of wet red on 0.1 mm texels (two texels per
     cell): 12.7 texels of travel per 60 Hz sample."""
     scene = dataclasses.replace(load_paint_scene("default"), sweep=sweep)
     if margin_cells is not None:
         scene = dataclasses.replace(scene, margin_cells=margin_cells)
+    if follow is not None:
+        scene = dataclasses.replace(scene, follow=follow)
     layer = np.zeros((1, 200, 560), np.float32)
     layer[0, 30:170, 20:540] = 5e-4
     wet = (layer[0] > 0).astype(np.float32)
@@ -252,11 +256,11 @@ def test_a_grid_that_re_centres_on_the_tip_every_step_prints_no_teeth_at_its_shi
     periods = periods[periods < 26.0]  # up to two samples' travel: six chunks of the path or more
     worst = {}
     for margin in (10, None):
-        canvas, session = scrape_fine(True, margin)
+        canvas, session = scrape_fine(True, margin, follow="cells")
         height = canvas.height_m.astype(float)
         found = period_depths(height, 1e-4, path, periods)
         worst[margin] = max(found, key=lambda d: d.depth)
-    assert session.model.margin_cells == 15  # the default: every step
+    assert session.model.margin_cells == 15  # a scene's default: every step
     assert 15.0 < worst[10].period_texels < 26.0 and worst[10].depth > 0.6
     assert worst[None].depth < 0.35 and worst[None].depth < 0.5 * worst[10].depth
 
