@@ -371,18 +371,24 @@ def axis_weights(offset: float, k: int, columns: int, texels: int, kernel: str) 
     that follows continuously): the weights depend on nothing else, and a window that moves by
     whole cells meets the same few again and again (kept, not built anew with their sparse
     matrices: 0.4 ms each on an A4 canvas at 0.1 mm). Read only."""
-    return AxisWeights(transfer_weights(offset, k, 0, columns, 0, texels, kernel))
+    return AxisWeights(offset, k, columns, texels, kernel)
 
 
 class AxisWeights:
-    """One axis's transfer weights (columns, texels), per texel: ``first``, the first column its
-    weights reach, and ``taps``, the weights of it and the next columns
-    (:func:`paintapp.paint.texel_transfer.axis_taps`); ``sums``, each column's total."""
+    """One axis's transfer weights (:func:`transfer_weights`, columns by texels), per texel:
+    ``first``, the first column its weights reach, and ``taps``, the weights of it and the next
+    columns (as :func:`paintapp.paint.texel_transfer.axis_taps` takes them from the dense
+    weights); ``sums``, each column's total. Built by
+    :func:`paintapp.paint.texel_transfer.weight_taps`."""
 
-    def __init__(self, weights: np.ndarray) -> None:
-        self.shape = weights.shape
-        self.first, self.taps = kernels.axis_taps(weights)
-        self.sums = weights.sum(axis=1)
+    def __init__(self, offset: float, k: int, columns: int, texels: int, kernel: str) -> None:
+        self.shape = (columns, texels)
+        self.first = np.empty(texels, np.int64)
+        self.taps = np.empty((texels, kernels.TAPS))
+        self.sums = np.empty(columns)
+        tent = kernel == "tent" or k == 1
+        if not kernels.weight_taps(float(offset), k, tent, self.first, self.taps, self.sums):
+            raise ValueError(f"transfer weights reach more than {kernels.TAPS} columns per texel")
 
 
 def drop_thin_films(owned: np.ndarray, change: np.ndarray, floor: float) -> np.ndarray:

@@ -51,6 +51,45 @@ def axis_taps(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return first.astype(np.int64), taps
 
 
+@njit(cache=True, nogil=True)
+def weight_taps(origin, k, tent, first, taps, sums):
+    """(first, taps) as :func:`axis_taps` gives them for the weights
+    :func:`paintapp.paint.columns.transfer_weights` builds (columns ``0..sums.size - 1``, texels
+    ``0..first.size - 1``), computed texel by texel with its arithmetic (the same values), and
+    each column's total into ``sums``, without the dense (columns, texels) array: a window that
+    follows the tip continuously needs new weights every step (0.15 ms each from the dense
+    form on a 32-column, 136-texel axis). Returns False if a texel's weights reach more than
+    ``TAPS`` columns."""
+    n_col, n_tex = sums.size, first.size
+    sums[:] = 0.0
+    fits = True
+    for x in range(n_tex):
+        centre = x + 0.5
+        first[x] = 0
+        for a in range(TAPS):
+            taps[x, a] = 0.0
+        found = -1
+        for i in range(n_col):
+            t = abs(centre - (origin + (i + 0.5) * k)) / k
+            if tent:
+                w = max(1.0 - t, 0.0)
+            elif t <= 0.5:
+                w = 0.75 - t * t
+            else:
+                w = 0.5 * (1.5 - min(t, 1.5)) ** 2
+            if w == 0.0:
+                continue
+            if found < 0:
+                found = i
+                first[x] = i
+            if i - found >= TAPS:
+                fits = False
+            else:
+                taps[x, i - found] = w
+            sums[i] += w
+    return fits
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _mobile_share(wet):
     return 1.0 if wet >= FULLY_WET else float(wet)

@@ -10,12 +10,13 @@ import pytest
 from brushes import StylusSample, TipTracker, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
-from paintapp.paint.columns import ColumnWindow, cell_texels, transfer_weights
+from paintapp.paint.columns import AxisWeights, ColumnWindow, cell_texels, transfer_weights
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.paint.selector import MODEL_CLASSES
+from paintapp.paint.texel_transfer import axis_taps
 from paintapp.resources import asset_path
 
 BRUSHES = asset_path("brushes")
@@ -67,6 +68,25 @@ def test_transfer_weights_are_a_partition_of_unity_summing_to_k_per_column(k, ke
     elif k >= 3:
         assert curvature > 0.49 / k
     assert np.allclose(transfer_weights(0, 1, 0, 4, 0, 4, kernel), np.eye(4))  # k = 1: identity
+
+
+def test_the_compiled_axis_weights_are_the_dense_weights_taps():
+    """The per-texel taps a window uses, built texel by texel (``weight_taps``), are those of the
+    dense weights: the same values, at whole-texel and fractional offsets, both kernels."""
+    rng = np.random.default_rng(11)
+    for n in range(200):
+        k, columns, texels = (
+            int(rng.integers(1, 7)),
+            int(rng.integers(1, 40)),
+            int(rng.integers(1, 300)),
+        )
+        offset = float(rng.uniform(-50.0, 50.0)) if n % 2 else float(rng.integers(-50, 50))
+        kernel = "tent" if n % 5 == 0 else "bspline"
+        dense = transfer_weights(offset, k, 0, columns, 0, texels, kernel)
+        first, taps = axis_taps(dense)
+        built = AxisWeights(offset, k, columns, texels, kernel)
+        assert np.array_equal(built.first, first) and np.array_equal(built.taps, taps)
+        np.testing.assert_allclose(built.sums, dense.sum(axis=1), rtol=1e-13, atol=1e-13)
 
 
 def test_gather_takes_only_the_wet_paint_and_unchanged_columns_are_not_written():
