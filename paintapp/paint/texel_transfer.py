@@ -31,6 +31,9 @@ MAX_SWEEP_SAMPLES = 4
 #: once stored as float32.
 HOLE_FILL = 1.25
 
+#: Largest hole (texels) :func:`fill_thin_holes` fills.
+MAX_HOLE_TEXELS = 8
+
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
 
@@ -282,8 +285,9 @@ def fill_thin_holes(new_mobile, touched, total, floor):
     neighbour of eight the wet paint (in that neighbour's pigment shares) that lifts it to
     ``HOLE_FILL`` times ``floor``, where the neighbour keeps more than that itself; those
     beside paint first, then those beside the filled ones. (Films of about 0.1 um at a stroke's
-    fringe, a texel or two among thicker ones.) Conserved, never negative; ``total`` updated.
-    Returns how many were filled."""
+    fringe, a texel or two among thicker ones.) A larger unpainted region that paint encloses
+    (over ``MAX_HOLE_TEXELS``: the inside of a loop the brush drew) is left as it is. Conserved,
+    never negative; ``total`` updated. Returns how many were filled."""
     n_p, ny, nx = new_mobile.shape
     open_ = np.zeros((ny, nx), dtype=np.bool_)
     stack = []
@@ -302,8 +306,21 @@ def fill_thin_holes(new_mobile, touched, total, floor):
     holes = []
     for y in range(1, ny - 1):
         for x in range(1, nx - 1):
-            if total[y, x] <= floor and not open_[y, x]:
-                holes.append((y, x))
+            if total[y, x] > floor or open_[y, x]:
+                continue
+            part = [(y, x)]  # this hole's texels, four-connected
+            open_[y, x] = True  # seen
+            n = 0
+            while n < len(part):
+                py, px = part[n]
+                n += 1
+                for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+                    yy, xx = py + dy, px + dx
+                    if not open_[yy, xx] and total[yy, xx] <= floor:
+                        open_[yy, xx] = True
+                        part.append((yy, xx))
+            if len(part) <= MAX_HOLE_TEXELS:
+                holes.extend(part)
     target = HOLE_FILL * floor
     filled = 0
     progress = True

@@ -12,7 +12,12 @@ from brushes import PaintReservoir
 from paintapp.canvas.lattice import count_holes
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.paint_model import PaintModel
-from paintapp.paint.texel_transfer import close_pinholes, gather_fringe_films
+from paintapp.paint.texel_transfer import (
+    HOLE_FILL,
+    close_pinholes,
+    fill_thin_holes,
+    gather_fringe_films,
+)
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import paint, small_scene
 from tests.support.demo_strokes import StrokeSpec
@@ -95,6 +100,28 @@ def test_a_pinhole_is_filled_from_its_neighbours_conserving_each_pigment():
     same, changed = mobile.copy(), np.ones((9, 9), bool)
     assert close_pinholes(same, changed, under_dry, FILM_FLOOR_M) == 0
     assert np.array_equal(same, mobile)
+
+
+def test_a_thin_hole_is_filled_from_its_thickest_neighbour_and_a_loop_s_inside_is_not():
+    floor = FILM_FLOOR_M
+    mobile = np.zeros((2, 16, 16))
+    mobile[:, 1:15, 1:15] = 0.8 * floor  # 1.6 floors a texel: less than the pinholes ask
+    mobile[:, 3, 3:5] = [[3e-8, 1e-8], [2e-8, 0.0]]  # a hole two texels long, under the floor
+    mobile[:, 2, 3] = 2.0 * floor  # their thickest neighbour
+    mobile[:, 2, 4] = 1.5 * floor
+    mobile[:, 6:14, 6:14] = 5e-6  # a thick loop the brush drew
+    mobile[:, 7:13, 7:13] = 0.0  # its inside: 36 texels, no paint
+    total = mobile.sum(axis=0)
+    out, touched = mobile.copy(), np.zeros((16, 16), bool)
+    assert fill_thin_holes(out, touched, total, floor) == 2
+    np.testing.assert_allclose(out.sum(axis=(1, 2)), mobile.sum(axis=(1, 2)), rtol=1e-12)
+    np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)
+    np.testing.assert_allclose(total[3, 3:5], HOLE_FILL * floor, rtol=1e-12)
+    given = HOLE_FILL * floor - 5e-8  # (3, 3)'s, half of each pigment (the giver's shares)
+    np.testing.assert_allclose(out[:, 3, 3], [3e-8 + given / 2, 2e-8 + given / 2], rtol=1e-12)
+    assert out.min() >= 0.0 and total[2, 3] > HOLE_FILL * floor
+    assert (total[1:15, 1:15] > floor).sum() == 14 * 14 - 36  # all but the loop's inside
+    assert not out[:, 7:13, 7:13].any() and touched.sum() == 3  # the two, and their giver
 
 
 def test_a_fringe_film_goes_to_its_thickest_neighbour_and_an_inner_one_stays():
