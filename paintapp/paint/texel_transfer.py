@@ -24,8 +24,11 @@ from numba import njit
 #: Columns one texel's weights reach on one axis at most.
 TAPS = 3
 
-#: Most samples along the path that a swept change is averaged over.
-MAX_SWEEP_SAMPLES = 4
+#: Most samples along the path that a swept change is averaged over: enough for a sample a
+#: texel along the demo's fastest sub-steps (6.3 texels); each sample is a pass over the box,
+#: and on the painting window's A4 canvas (1.2 mm cells, 21 texels a sub-step) eight cost its
+#: write-back 1.6-4.2 ms a step over four (of 26-28 ms), sixteen about 8 ms.
+MAX_SWEEP_SAMPLES = 8
 
 #: What :func:`fill_thin_holes` lifts a hole's paint to, in film floors: clear of the floor
 #: once stored as float32.
