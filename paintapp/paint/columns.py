@@ -58,6 +58,7 @@ from paintapp.paint.paint_scene import TRANSFER_KERNELS
 #: (0.3 mm cells, 6.3 texels a sub-step, four samples) a ripple at the sub-step, 0.048 of its
 #: height; a sample a texel (seven) 0.026.
 SWEEP_SAMPLES_PER_CELL = 2
+#: Longest distance (texels) between two of those samples.
 SWEEP_SPACING_TEXELS = 1.0
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
 #: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth

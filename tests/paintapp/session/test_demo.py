@@ -10,6 +10,7 @@ from paintapp.canvas.exr import read_canvas_exr
 from paintapp.canvas.lattice import count_holes
 from paintapp.cli import main
 from paintapp.resources import asset_path
+from paintapp.session.comb import period_depths, stroke_paths, tooth_depth
 from paintapp.session.outputs import read_forces_csv
 from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import LoadPigment, StrokeRecord, SwitchBrush, record_to_dict
@@ -79,5 +80,14 @@ def test_demo_paints_mixes_and_records_forces(tmp_path):
     red = conc[canvas.pigment_index("cadmium_red")] > 0.5
     assert canvas.height_m[red].max() > 5e-4  # impasto: over half a millimetre
     assert count_holes(canvas.height_m) == (0, 0)  # no unpainted texel inside the painting
+    # The probe's trail through the impasto carries no comb: at its step (12.6 texels) and at
+    # its sub-step (6.3) the height varies by 0.021 and 0.026 of itself (floors 0.008 and
+    # 0.004); 0.054 and 0.048 with two sweep samples a cell, 0.38 at 50 texels by whole cells.
+    height = canvas.height_m.astype(np.float64)
+    probe = next(p for p in stroke_paths(painted) if "probe" in p.label)
+    step_depth, _ = tooth_depth(height, dx, probe.points_m)
+    step = np.median(np.hypot(*np.diff(probe.points_m, axis=0).T)) / dx
+    folds = period_depths(height, dx, probe.points_m, np.array([step / 2, 50.2]))
+    assert step_depth < 0.035 and max(f.depth for f in folds) < 0.04
     forces = read_forces_csv(out / "forces.csv")
     assert np.all(np.isfinite(forces)) and np.linalg.norm(forces[:, 1:4], axis=1).max() > 0.01
