@@ -43,7 +43,8 @@ FULLY_WET = 1.0 - 2.0**-20
 
 def axis_taps(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(first, taps) of dense (columns, texels) weights: per texel, the first column with a
-    non-zero weight (0 where none) and the weights of it and the next ``TAPS - 1`` columns."""
+    non-zero weight (0 where none) and the weights of it and the next ``TAPS - 1`` columns.
+    The reference that :func:`weight_taps`, which the windows use, is tested against."""
     n_col, n_tex = weights.shape
     nonzero = weights != 0.0
     first = np.where(nonzero.any(axis=0), np.argmax(nonzero, axis=0), 0)
