@@ -209,7 +209,6 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
     n_axis = static.shape[axis]
     di = U1 if axis == 0 else U0
     dj = U1 if axis == 1 else U0
-    dk = U1 if axis == 2 else U0
     if nz == 1 and axis != 2:  # 2D: no loop over a single layer
         for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
             ui = np.uint64(i)
@@ -217,19 +216,22 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
                 uj = np.uint64(j)
                 if wf[ui, uj, U0] > 0.0 and active[ui, uj, U0] and active[ui - di, uj - dj, U0]:
                     q[ui, uj, U0] -= (phi[ui, uj, U0] - phi[ui - di, uj - dj, U0]) / h
-    else:
-        for i in range(1 if axis == 0 else 0, nx - 1 if axis == 0 else nx):
-            ui = np.uint64(i)
-            for j in range(1 if axis == 1 else 0, ny - 1 if axis == 1 else ny):
-                uj = np.uint64(j)
-                for k in range(1 if axis == 2 else 0, nz - 1 if axis == 2 else nz):
-                    uk = np.uint64(k)
-                    if (
-                        wf[ui, uj, uk] > 0.0
-                        and active[ui, uj, uk]
-                        and active[ui - di, uj - dj, uk - dk]
-                    ):
-                        q[ui, uj, uk] -= (phi[ui, uj, uk] - phi[ui - di, uj - dj, uk - dk]) / h
+    else:  # a row at a time along z, the correction selected, not branched on: it vectorizes
+        ii, jj = (1, 0) if axis == 0 else ((0, 1) if axis == 1 else (0, 0))
+        for i in range(ii, nx - 1 if axis == 0 else nx):
+            for j in range(jj, ny - 1 if axis == 1 else ny):
+                qr, wr, ar, pr = q[i, j], wf[i, j], active[i, j], phi[i, j]
+                if axis == 2:
+                    for k in range(1, nz - 1):
+                        fix = (wr[k] > 0.0) & ar[k] & ar[k - 1]
+                        value = qr[k] - (pr[k] - pr[k - 1]) / h
+                        qr[k] = value if fix else qr[k]
+                else:
+                    al, pl = active[i - ii, j - jj], phi[i - ii, j - jj]
+                    for k in range(nz):
+                        fix = (wr[k] > 0.0) & ar[k] & al[k]
+                        value = qr[k] - (pr[k] - pl[k]) / h
+                        qr[k] = value if fix else qr[k]
     for side in (0, n_axis):
         for i in range(side, side + 1) if axis == 0 else range(nx):
             for j in range(side, side + 1) if axis == 1 else range(ny):

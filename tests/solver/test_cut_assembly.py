@@ -15,7 +15,7 @@ import pytest
 from solver.boundary import INFLOW, OUTFLOW, WALL
 from solver.cut_projection import build_cut_pressure_system, subtract_cut_gradient
 from solver.cut_viscosity import build_cut_system
-from solver.faces import FLUID, STATIC_SOLID, classify_faces
+from solver.faces import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID, classify_faces
 from solver.layers import layer_count
 from solver.projection import build_pressure_system, subtract_gradient
 from solver.viscosity import build_variable_system, face_viscosity
@@ -73,6 +73,55 @@ def test_cut_viscosity_system_without_probes_is_the_staircases(dim):
             for a, b in zip(*built, strict=True):
                 np.testing.assert_array_equal(a, b)
             assert built[0][4].any() and not built[0][4].all()  # both paths ran
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_cut_viscosity_short_path_gives_the_general_paths_system(dim):
+    """Around probes (cut couplings, faces inside solids, every kind of side, sides' velocities
+    and a drag), the short path leaves every sample it takes exactly as the general path would
+    have built it, and hands it every other one."""
+    rng = np.random.default_rng(30 + dim)
+    for trial in range(30):
+        cells, _, kinds = _grid(rng, dim)
+        label = rng.choice([-1, -1, -1, 0, 1], size=cells).astype(np.int32)
+        rigid = rng.standard_normal((3, 2, 3))
+        side_vel = rng.standard_normal((3, 2, 3))
+        for axis in range(dim):
+            shape = tuple(c + (a == axis) for a, c in enumerate(cells))
+            # mostly unknowns, so that long runs of them take the short path's rows
+            face_type = rng.choice([FREE, FREE, FREE, FREE, BOUNDARY, INTERIOR], size=shape)
+            face_type = face_type.astype(np.int8)
+            q = rng.standard_normal(shape)
+            mu_face = rng.uniform(0.01, 3.0, shape)
+            drag = rng.uniform(0.0, 0.5, shape)
+            phi = np.where(face_type == FREE, 1.0, rng.uniform(-0.2, 0.1, shape))
+            owner = np.where(phi <= 0.0, rng.integers(-1, 2, shape), -1).astype(np.int32)
+            built = []
+            for short in (True, False):
+                arrays = (*(np.full(shape, 7.0) for _ in range(4)), np.zeros(shape, dtype=bool))
+                rhs = np.full(shape, 7.0)
+                build_cut_system(q, face_type, axis, dim, mu_face, 0.8, drag, kinds, side_vel,
+                                 label, rigid, 0.1, phi, owner, arrays, rhs, layer_count(shape),
+                                 short)  # fmt: skip
+                built.append((*arrays, rhs))
+            for a, b in zip(*built, strict=True):
+                np.testing.assert_array_equal(a, b, err_msg=f"trial {trial}, axis {axis}")
+    # an all-unknown grid: every sample's row, side and end goes through the short path
+    shape = (6, 5, 4) if dim == 3 else (6, 5, 1)
+    free = np.zeros(shape, dtype=np.int8)
+    ones = np.ones(shape)
+    built = []
+    for short in (True, False):
+        arrays = (*(np.full(shape, 7.0) for _ in range(4)), np.zeros(shape, dtype=bool))
+        rhs = np.full(shape, 7.0)
+        build_cut_system(ones, free, 0, dim, ones, 0.8, 0.1 * ones, np.zeros((3, 2), np.int64),
+                         np.ones((3, 2, 3)), np.full(shape, -1, np.int32), np.zeros((3, 1, 3)),
+                         0.1, ones, np.full(shape, -1, np.int32), arrays, rhs,
+                         layer_count(shape), short)  # fmt: skip
+        built.append((*arrays, rhs))
+    for a, b in zip(*built, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert built[0][4].all()
 
 
 @pytest.mark.parametrize("dim", [2, 3])
