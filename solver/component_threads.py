@@ -23,7 +23,7 @@ from __future__ import annotations
 import functools
 import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
 
@@ -136,3 +136,29 @@ def run_components(work: Callable[[int], T], count: int, threads: int) -> list[T
     if error is not None:
         raise error
     return [results[a] for a in range(count)]
+
+
+def run_beside(
+    own: Callable[[Callable[[int], object]], T], jobs: Sequence[Callable[[], object]]
+) -> tuple[T, list[object]]:
+    """Run ``jobs`` one after the other on one pool thread while this thread runs ``own``, which
+    gets ``wait``: ``wait(i)`` returns job ``i``'s result once it has finished (an exception it
+    raised is raised there). Returns ``own``'s result and the jobs'. As in
+    :func:`run_components`, an exception is raised here only once every job has finished."""
+    pool = _pool(1)
+    futures = [pool.submit(job) for job in jobs]
+    error: BaseException | None = None
+    mine: T | None = None
+    try:
+        mine = own(lambda i: futures[i].result())
+    except BaseException as exc:
+        error = exc
+    results: list[object] = []
+    for future in futures:
+        try:
+            results.append(future.result())
+        except BaseException as exc:
+            error = error or exc
+    if error is not None:
+        raise error
+    return mine, results  # type: ignore[return-value]

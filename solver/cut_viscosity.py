@@ -366,6 +366,45 @@ class ViscosityWork:
                    np.empty(shape))  # fmt: skip
 
 
+def assemble_cut(
+    q: np.ndarray,
+    face_type: np.ndarray,
+    axis: int,
+    dim: int,
+    mu_cell: np.ndarray,
+    dt_s: float,
+    density_kg_m3: float,
+    kinds: np.ndarray,
+    side_vel: np.ndarray,
+    label: np.ndarray,
+    rigid: np.ndarray,
+    h: float,
+    phi: np.ndarray,
+    owner: np.ndarray,
+    drag_cell: np.ndarray | None = None,
+    work: ViscosityWork | None = None,
+) -> ViscosityWork:
+    """The implicit viscosity system of component ``axis`` (no-slip at the probes' surfaces)
+    and its right-hand side, in ``work`` (of ``q``'s shape) when given, else in fresh arrays;
+    returns the arrays that hold them."""
+    if work is None or work.rhs.shape != q.shape:
+        work = ViscosityWork.for_shape(q.shape, dim)
+    mu_face, drag_face, system, rhs = work.mu_face, work.drag_face, work.system, work.rhs
+    face_viscosity(mu_cell, axis, mu_face)
+    if drag_cell is not None:
+        face_viscosity(drag_cell, axis, drag_face)
+        drag_face *= dt_s
+    else:
+        drag_face.fill(0.0)
+    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
+    scale = dt_s / (density_kg_m3 * h * h)
+    build_cut_system(
+        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
+        owner, arrays, rhs, layer_count(q.shape),
+    )  # fmt: skip
+    return work
+
+
 def diffuse_cut(
     q: np.ndarray,
     face_type: np.ndarray,
@@ -388,20 +427,8 @@ def diffuse_cut(
     work: ViscosityWork | None = None,
 ) -> SolveReport:
     """Implicit viscosity of component ``axis`` in place, no-slip at the probes' surfaces;
-    ``work`` (of ``q``'s shape), when given, holds the system instead of fresh arrays."""
-    if work is None or work.rhs.shape != q.shape:
-        work = ViscosityWork.for_shape(q.shape, dim)
-    mu_face, drag_face, system, rhs = work.mu_face, work.drag_face, work.system, work.rhs
-    face_viscosity(mu_cell, axis, mu_face)
-    if drag_cell is not None:
-        face_viscosity(drag_cell, axis, drag_face)
-        drag_face *= dt_s
-    else:
-        drag_face.fill(0.0)
-    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
-    scale = dt_s / (density_kg_m3 * h * h)
-    build_cut_system(
-        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
-        owner, arrays, rhs, layer_count(q.shape),
-    )  # fmt: skip
-    return linear_solve(system, rhs, q, tol, max_iter)
+    ``work`` (of ``q``'s shape), when given, holds the system instead of fresh arrays
+    (:func:`assemble_cut`, then ``linear_solve``)."""
+    work = assemble_cut(q, face_type, axis, dim, mu_cell, dt_s, density_kg_m3, kinds, side_vel,
+                        label, rigid, h, phi, owner, drag_cell, work)  # fmt: skip
+    return linear_solve(work.system, work.rhs, q, tol, max_iter)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,7 +18,13 @@ import numpy as np
 from solver import drag_models
 from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import DomainBoundary
-from solver.component_threads import AUTO_THREADS, run_components, thread_count, usable_cores
+from solver.component_threads import (
+    AUTO_THREADS,
+    run_beside,
+    run_components,
+    thread_count,
+    usable_cores,
+)
 from solver.cut_forces import cut_surface_force
 from solver.cut_geometry import UNIT, CutGeometry
 from solver.cut_projection import (
@@ -27,7 +34,7 @@ from solver.cut_projection import (
     project_cut,
     subtract_cut_gradient,
 )
-from solver.cut_viscosity import ViscosityWork, diffuse_cut, mark_probe_samples
+from solver.cut_viscosity import ViscosityWork, assemble_cut, diffuse_cut, mark_probe_samples
 from solver.faces import FLUID, classify_faces, label_cells, solid_adjacent_faces
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
@@ -376,9 +383,47 @@ class Simulation:
                 self.drag_per_s, solves[a], self._viscosity_work[a],
             )  # fmt: skip
 
+        threads = self.component_threads()
+        if threads == 2 and g.dim == 3:
+            return self._diffuse_split(task, solves[2], dt_s)
         tasks = g.dim + (1 if preload is not None else 0)
-        reports = run_components(task, tasks, self.component_threads())
+        reports = run_components(task, tasks, threads)
         return tuple(r for r in reports[: g.dim] if r is not None)
+
+    def _diffuse_split(
+        self, task: Callable[[int], SolveReport | None], last: LinearSolve, dt_s: float
+    ) -> tuple[SolveReport, ...]:
+        """The three components' viscosity on two threads, evenly: this thread solves the first
+        component and the last, the other assembles the last component's system (and loads its
+        multigrid hierarchy) first, then does the second component whole and the pressure's
+        hierarchy (``task(3)``). Three whole components left one thread with two of them and
+        the other with one (the painting grid: 3.5 against 2.1 ms); the same values."""
+        g, st, cfg, cut = self.grid, self.state, self.settings, self.cut
+        assert cut is not None
+        prepare, solve_last = _prepared(last)
+        work = self._viscosity_work[2]
+
+        def assemble_last() -> None:
+            assemble_cut(
+                st.comps[2], st.face_types[2], 2, g.dim, self.viscosity_pa_s, dt_s,
+                self.fluid.density_kg_m3, self._kinds, self._side_vel, self._static_label,
+                self._rigid, g.cell_size_m, cut.phi_face[2], cut.owner_sample[2], self.drag_per_s,
+                work,
+            )  # fmt: skip
+            prepare(work.system)
+
+        def own(wait: Callable[[int], object]) -> tuple[SolveReport, SolveReport]:
+            first = task(0)
+            wait(0)
+            third = solve_last(work.system, work.rhs, st.comps[2], cfg.viscosity_tolerance,
+                               cfg.max_iterations)  # fmt: skip
+            assert first is not None
+            return first, third
+
+        (first, third), done = run_beside(own, [assemble_last, lambda: task(1), lambda: task(3)])
+        second = done[1]
+        assert isinstance(second, SolveReport)
+        return first, second, third
 
     def pressure_on_threads(self) -> bool:
         """Whether the pressure solve runs its large levels on threads, or (auto) may, by
@@ -780,6 +825,17 @@ def _loaded_solve(mg: Multigrid) -> LinearSolve:
         return mg.solve_loaded(b, x, tol, max_iter)
 
     return solve_loaded
+
+
+def _prepared(
+    solve: LinearSolve,
+) -> tuple[Callable[[StencilSystem], None], LinearSolve]:
+    """``solve`` cut in two: what may run as soon as the system is assembled (a multigrid's
+    hierarchy), and the solve that follows it."""
+    mg = getattr(solve, "__self__", None)
+    if isinstance(mg, Multigrid):
+        return mg.load, _loaded_solve(mg)
+    return lambda system: None, solve
 
 
 def _linear_solver(

@@ -15,6 +15,7 @@ from solver.component_threads import (
     AUTO_THREADS,
     MAX_THREADS,
     quota_cores,
+    run_beside,
     run_components,
     thread_count,
     usable_cores,
@@ -162,6 +163,55 @@ def test_a_failure_on_this_thread_stops_its_share_and_waits_for_the_pool():
     with pytest.raises(KeyboardInterrupt):
         run_components(work, 3, 2)
     assert done == [1]  # the pool's component finished; this thread's next one never began
+
+
+def test_run_beside_runs_the_jobs_in_order_on_another_thread_and_waits_for_one():
+    order: list[str] = []
+    here = threading.current_thread().name
+    first_done = threading.Event()
+
+    def job(name: str, event: threading.Event | None = None):
+        def run() -> str:
+            if event is not None:
+                event.wait(5.0)
+            order.append(name)
+            assert threading.current_thread().name != here
+            return name.upper()
+
+        return run
+
+    def own(wait):
+        first_done.set()  # the second job may start only after the first: it waits for this
+        got = wait(0)
+        order.append("own")
+        return got
+
+    mine, results = run_beside(own, [job("a"), job("b", first_done), job("c")])
+    assert mine == "A" and results == ["A", "B", "C"]
+    assert order.index("a") < order.index("own")  # own waited for job 0
+    assert [n for n in order if n != "own"] == ["a", "b", "c"]
+
+
+def test_run_beside_raises_after_every_job_has_finished():
+    done: list[int] = []
+
+    def failing() -> None:
+        raise ValueError("job failed")
+
+    def own(wait):
+        wait(0)  # raises the job's error here
+        done.append(-1)
+
+    with pytest.raises(ValueError, match="job failed"):
+        run_beside(own, [failing, lambda: done.append(1)])
+    assert done == [1]  # the next job still ran to its end; own stopped at the wait
+
+    def own_fails(wait):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_beside(own_fails, [lambda: done.append(2)])
+    assert done == [1, 2]
 
 
 def test_a_container_s_cpu_quota_caps_the_cores():
