@@ -74,8 +74,8 @@ def upwind_substep(q, u, v, w, tu, tv, tw, dim, rate, out):
     ``rate * vel * q_upwind`` from the cell on its low side to the one on its high side (vel > 0)
     or back; the upwind choice is a max/min, not a branch, and each field runs its own pass over
     contiguous cells (unsigned-indexed), each cell's sums in the same order as a face-by-face,
-    field-by-field pass (1.4x faster on the painting grid; a gather, each cell summing its own
-    faces, was no faster)."""
+    field-by-field pass. :func:`transport` takes :func:`gather_substep` instead, which gives
+    these values bit for bit (the reference it is tested against)."""
     n, nx, ny, nz = q.shape
     out[:] = q
     three = dim == 3
@@ -104,6 +104,90 @@ def upwind_substep(q, u, v, w, tu, tv, tw, dim, rate, out):
                         f = max(vel, 0.0) * qp[ui, uj, uk - U1] + min(vel, 0.0) * here
                         op[ui, uj, uk - U1] -= f
                         op[ui, uj, uk] += f
+
+
+@njit(cache=True, nogil=True)
+def face_rates(u, v, w, tu, tv, tw, dim, rate, ru, rv, rw):
+    """``rate`` times each face velocity where the face carries flux (an interior ``FREE``
+    face), else 0, into ``ru``, ``rv``, ``rw`` (the components' shapes; ``rw`` is left alone in
+    2D): what every field and sub-step of :func:`gather_substep` reads, formed once."""
+    for q, t, out, axis in ((u, tu, ru, 0), (v, tv, rv, 1), (w, tw, rw, 2)):
+        if axis == 2 and dim != 3:
+            continue
+        nx, ny, nz = q.shape
+        last = (nx, ny, nz)[axis] - 1
+        for i in range(nx):
+            for j in range(ny):
+                for k in range(nz):
+                    at = i if axis == 0 else (j if axis == 1 else k)
+                    flows = 0 < at < last and t[i, j, k] == FREE
+                    out[i, j, k] = rate * q[i, j, k] if flows else 0.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _flux(r, lo, hi):
+    """The upwind flux through a face of rate ``r`` (``rate * velocity``) from the cell below,
+    holding ``lo``, to the one above, holding ``hi``: :func:`upwind_substep`'s expression."""
+    return max(r, 0.0) * lo + min(r, 0.0) * hi
+
+
+@njit(cache=True, nogil=True)
+def gather_substep(q, ru, rv, rw, dim, out):
+    """:func:`upwind_substep` with the face rates of :func:`face_rates`, each cell summing its
+    own faces: the same values, bit for bit. A cell's change in :func:`upwind_substep` comes in
+    the order its loop makes it: the cell's own low x, y and z faces (added), then its high z,
+    y and x faces (subtracted); here it is summed in that order, a row along the last axis at a
+    time (along y on one layer), with no branch, so the rows vectorize. A face that carries no
+    flux has rate 0 and adds 0; the rows' neighbours beyond the grid's sides are read as the
+    cell itself, through faces of rate 0. On the painting grid (4 fields of 32 x 32 x 12),
+    captured sub-steps: 0.181 ms against :func:`upwind_substep`'s 0.224 (the rates formed once
+    a transport, 0.023 ms); with the rows' ends clamped inside the row loop, which kept it from
+    vectorizing, no faster."""
+    n, nx, ny, nz = q.shape
+    for p in range(n):
+        qp, op = q[p], out[p]
+        for i in range(nx):
+            iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
+            if dim != 3:  # one layer: a row along y
+                q0, qw, qe = qp[i, :, 0], qp[iw, :, 0], qp[ie, :, 0]
+                xl, xh, yr = ru[i, :, 0], ru[i + 1, :, 0], rv[i, :, 0]
+                o = op[i, :, 0]
+                for j in range(1, ny - 1):
+                    c = q0[j]
+                    t = c + _flux(xl[j], qw[j], c)
+                    t += _flux(yr[j], q0[j - 1], c)
+                    t -= _flux(yr[j + 1], c, q0[j + 1])
+                    o[j] = t - _flux(xh[j], c, qe[j])
+                for j in range(0, ny, max(ny - 1, 1)):  # the row's ends
+                    js, jn = max(j - 1, 0), min(j + 1, ny - 1)
+                    c = q0[j]
+                    t = c + _flux(xl[j], qw[j], c)
+                    t += _flux(yr[j], q0[js], c)
+                    t -= _flux(yr[j + 1], c, q0[jn])
+                    o[j] = t - _flux(xh[j], c, qe[j])
+                continue
+            for j in range(ny):
+                js, jn = max(j - 1, 0), min(j + 1, ny - 1)
+                q0, qw, qe, qs, qn = qp[i, j], qp[iw, j], qp[ie, j], qp[i, js], qp[i, jn]
+                xl, xh, yl, yh, zr = ru[i, j], ru[i + 1, j], rv[i, j], rv[i, j + 1], rw[i, j]
+                o = op[i, j]
+                for k in range(1, nz - 1):  # no clamped index: it vectorizes
+                    c = q0[k]
+                    t = c + _flux(xl[k], qw[k], c)
+                    t += _flux(yl[k], qs[k], c)
+                    t += _flux(zr[k], q0[k - 1], c)
+                    t -= _flux(zr[k + 1], c, q0[k + 1])
+                    t -= _flux(yh[k], c, qn[k])
+                    o[k] = t - _flux(xh[k], c, qe[k])
+                for k in range(0, nz, max(nz - 1, 1)):  # the row's ends
+                    kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
+                    c = q0[k]
+                    t = c + _flux(xl[k], qw[k], c)
+                    t += _flux(yl[k], qs[k], c)
+                    t += _flux(zr[k], q0[kb], c)
+                    t -= _flux(zr[k + 1], c, q0[kt])
+                    t -= _flux(yh[k], c, qn[k])
+                    o[k] = t - _flux(xh[k], c, qe[k])
 
 
 def _third(
@@ -164,10 +248,12 @@ def transport(
     n = substeps_needed(comps, face_types, dim, h, dt)
     rate = dt / (n * h)
     w, tw = _third(comps, face_types, dim)
+    ru, rv, rw = np.empty(comps[0].shape), np.empty(comps[1].shape), np.empty(w.shape)
+    face_rates(comps[0], comps[1], w, face_types[0], face_types[1], tw, dim, rate, ru, rv, rw)
     scratch = np.empty_like(fields)
     src, dst = fields, scratch
     for _ in range(n):
-        upwind_substep(src, comps[0], comps[1], w, face_types[0], face_types[1], tw, dim, rate, dst)
+        gather_substep(src, ru, rv, rw, dim, dst)
         src, dst = dst, src
     if src is not fields:
         fields[:] = src
