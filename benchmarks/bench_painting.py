@@ -3,8 +3,8 @@
 Painting step: a loaded small round brush drags across a canvas already covered with wet paint
 of four pigments, through each painting scene's model, on canvases of 1024 and 4096 pixels (the
 canvas size sets the cell size in texels, so the transfer's cost); median over the steps after a
-warm-up, with the phases (read: canvas to grid; solver; exchange with the brush; transport;
-write: grid to canvas). A last row takes the painting window's defaults instead: its new canvas
+warm-up, with the phases (follow: the grid re-centred on the tip, with the fluid's state; read:
+canvas to grid; solver; exchange with the brush; transport; write: grid to canvas). A last row takes the painting window's defaults instead: its new canvas
 (A4 at 0.1 mm) and brush (``round_large``), the default scene with the window's one solver
 thread (``--window-steps 0`` skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
 llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files).
@@ -40,7 +40,7 @@ from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "cadmium_red", "titanium_white")
 SCENES = ("default", "push_rings", "open_sides", "follow_cells", "thin_glaze", "no_fluid")
-PHASES = ("read", "solver", "exchange", "transport", "write")
+PHASES = ("follow", "read", "solver", "exchange", "transport", "write")
 #: Canvas width in metres for each pixel count (a 20 cm and a 40 cm canvas).
 CANVAS_M = {1024: 0.2, 4096: 0.4}
 

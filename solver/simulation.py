@@ -8,7 +8,6 @@ probe.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,6 +35,7 @@ from solver.cut_projection import (
 )
 from solver.cut_viscosity import ViscosityWork, assemble_cut, diffuse_cut, mark_probe_samples
 from solver.faces import FLUID, classify_faces, label_cells, solid_adjacent_faces
+from solver.field_shift import shifted, shifted_by
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.layers import layer_count
@@ -495,12 +495,12 @@ class Simulation:
         st = self.state
         if whole:
             cells = [round(o) for o in off]
-            st.comps = [_shifted(q, cells) for q in st.comps]
-            st.pressure = _shifted(st.pressure, cells)
+            st.comps = [shifted(q, cells) for q in st.comps]
+            st.pressure = shifted(st.pressure, cells)
         else:
-            st.comps = [_shifted_by(q, off) for q in st.comps]
-            st.pressure = _shifted_by(st.pressure, off)
-        self._was_active = _shifted(self._was_active, [round(o) for o in off])
+            st.comps = [shifted_by(q, off) for q in st.comps]
+            st.pressure = shifted_by(st.pressure, off)
+        self._was_active = shifted(self._was_active, [round(o) for o in off])
         if not whole:
             self._rasterize()  # the geometry is sampled afresh at the new cell centres
         elif self.cut is not None and self.cut.shift((cells[0], cells[1], cells[2]), g.cells):
@@ -781,39 +781,6 @@ class Simulation:
         out = np.full((pts.shape[0], 3), 0.5 * self.grid.cell_size_m)
         out[:, :d] = pts[:, :d] - np.asarray(self.grid.origin_m)[:d]
         return out
-
-
-def _shifted_by(q: np.ndarray, off: list[float]) -> np.ndarray:
-    """``q`` moved by fractions of a cell: new[i] = old at i + off, linearly interpolated along
-    each axis in turn; entries from outside are zero."""
-    out = q
-    for a in range(3):
-        base = math.floor(off[a])
-        frac = off[a] - base
-        if base == 0 and frac == 0.0:
-            continue
-        step = [0, 0, 0]
-        step[a] = base
-        lo = _shifted(out, step)
-        if frac > 0.0:
-            step[a] = base + 1
-            lo = (1.0 - frac) * lo + frac * _shifted(out, step)
-        out = lo
-    return np.ascontiguousarray(out)
-
-
-def _shifted(q: np.ndarray, off: list[int]) -> np.ndarray:
-    """``q`` moved so that new[i] = old[i + off]; entries from outside are zero."""
-    out = np.zeros_like(q)
-    src, dst = [], []
-    for a in range(3):
-        n, o = q.shape[a], off[a]
-        if abs(o) >= n:
-            return out
-        src.append(slice(max(o, 0), n + min(o, 0)))
-        dst.append(slice(max(-o, 0), n - max(o, 0)))
-    out[tuple(dst)] = q[tuple(src)]
-    return out
 
 
 def _loaded_solve(mg: Multigrid) -> LinearSolve:

@@ -91,8 +91,9 @@ class PaintStep:
         transport_substeps: upwind sub-steps of the paint transport, summed.
         exchange: paint moved between brush and grid, summed over the sub-steps.
         step_ms: wall time of the step, ms.
-        phase_ms: wall time by phase (``read``: canvas to grid, ``solver``, ``exchange``,
-            ``transport``, ``write``: grid to canvas), ms.
+        phase_ms: wall time by phase (``follow``: the window re-centred on the tip, with the
+            fluid's state; ``read``: canvas to grid, ``solver``, ``exchange``, ``transport``,
+            ``write``: grid to canvas), ms.
         channels: pigment channels carried through the grid (the most over the sub-steps).
         stokes_steps: solver steps taken as Stokes flow, without momentum advection
             (:meth:`PaintModel.step_settings`).
@@ -315,7 +316,11 @@ class PaintModel(ABC):
         for s in range(n):
             f = (s + 1) / n
             centre = (1.0 - f) * start.position_m + f * pose.position_m
+            clock = PhaseTimer()
             self.follow(centre)
+            clock.mark("follow")
+            moved = PaintStep(step_ms=clock.total_ms, phase_ms=clock.ms)
+            result = self._merge(result, moved)
             result = self._merge(result, self._advance(pose, centre, dt_s / n, reservoir))
         self.pose = pose
         return result

@@ -13,7 +13,7 @@ from paintapp.canvas.model import Canvas
 from paintapp.paint.columns import ColumnWindow, transfer_weights
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.session.comb import period_depths
-from solver.simulation import _shifted_by
+from solver.field_shift import shifted_by
 from tests.paintapp.paint.test_nearest_room import diagonal_drag
 
 BLUE = "ultramarine_blue"
@@ -55,7 +55,7 @@ def test_a_window_between_texels_moves_paint_conserved_and_never_negative():
 def test_the_fluid_moves_by_fractions_of_a_cell_as_a_whole():
     i, j, k = np.meshgrid(np.arange(10.0), np.arange(8.0), np.arange(6.0), indexing="ij")
     field = 2.0 * i - 0.5 * j + 3.0 * k + 1.0  # linear: interpolation moves it exactly
-    moved = _shifted_by(field, [0.3, -1.6, 0.0])
+    moved = shifted_by(field, [0.3, -1.6, 0.0])
     expected = 2.0 * (i + 0.3) - 0.5 * (j - 1.6) + 3.0 * k + 1.0
     np.testing.assert_allclose(moved[:-1, 2:, :], expected[:-1, 2:, :], atol=1e-12)
     # what comes from outside is zero: the last row takes 0.7 of its own, the first column none
