@@ -8,6 +8,7 @@ paint volume is ``q * unit`` with ``unit`` the cell volume (3D) or the cell area
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from solver.faces import FREE, STATIC_SOLID
@@ -65,28 +66,47 @@ def probe_rings(label, max_ring, dist):
     """Graph distance of fluid cells from the probe (6-neighbours through fluid cells).
 
     ``dist`` gets 0 on probe cells, r in 1..max_ring on fluid cells r steps away, -1 elsewhere.
-    """
+    A breadth-first search from the probe's cells, which visits only the cells within
+    ``max_ring`` of it (a pass over the whole grid per ring before: the painting grid's 8
+    rings, 0.34 ms a call)."""
     nx, ny, nz = label.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                dist[i, j, k] = 0 if label[i, j, k] >= 0 else -1
-    for r in range(1, max_ring + 1):
-        for i in range(nx):
-            for j in range(ny):
-                for k in range(nz):
-                    if dist[i, j, k] != -1 or label[i, j, k] != FLUID:
-                        continue
-                    near = (
-                        (i > 0 and dist[i - 1, j, k] == r - 1)
-                        or (i < nx - 1 and dist[i + 1, j, k] == r - 1)
-                        or (j > 0 and dist[i, j - 1, k] == r - 1)
-                        or (j < ny - 1 and dist[i, j + 1, k] == r - 1)
-                        or (k > 0 and dist[i, j, k - 1] == r - 1)
-                        or (k < nz - 1 and dist[i, j, k + 1] == r - 1)
-                    )
-                    if near:
-                        dist[i, j, k] = r
+    flat_label, flat = label.reshape(-1), dist.reshape(-1)
+    queue = np.empty(flat.size, dtype=np.int64)
+    tail = 0
+    for c in range(flat.size):
+        if flat_label[c] >= 0:
+            flat[c] = 0
+            queue[tail] = c
+            tail += 1
+        else:
+            flat[c] = -1
+    sx, sy = ny * nz, nz
+    head = 0
+    while head < tail:
+        c = queue[head]
+        head += 1
+        r = flat[c] + 1
+        if r > max_ring:
+            break  # the queue holds its cells in order of distance
+        i, rest = divmod(c, sx)
+        j, k = divmod(rest, sy)
+        for b in range(6):
+            if b == 0:
+                n, ok = c - sx, i > 0
+            elif b == 1:
+                n, ok = c + sx, i < nx - 1
+            elif b == 2:
+                n, ok = c - sy, j > 0
+            elif b == 3:
+                n, ok = c + sy, j < ny - 1
+            elif b == 4:
+                n, ok = c - 1, k > 0
+            else:
+                n, ok = c + 1, k < nz - 1
+            if ok and flat[n] == -1 and flat_label[n] == FLUID:
+                flat[n] = r
+                queue[tail] = n
+                tail += 1
 
 
 @njit(cache=True, nogil=True)

@@ -18,7 +18,7 @@ from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.session.comb import period_depths
 from paintapp.session.painting import PaintingSession, paint_inventory
 from solver.cut_geometry import FAR
-from solver.faces import FLUID
+from solver.faces import FLUID, STATIC_SOLID
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 RED = "cadmium_red"
@@ -175,3 +175,35 @@ def test_a_scene_s_push_is_checked():
     assert scene.push == "rings" and load_paint_scene("default").push == "distance"
     with pytest.raises(InputError, match="distance, rings"):
         parse_paint_scene({"brush": {"push": "nearest"}}, "s")
+
+
+def _rings_by_layers(label: np.ndarray, max_ring: int) -> np.ndarray:
+    """The rings as layers: each ring the fluid cells next to the last ring's, not yet taken."""
+    dist = np.where(label >= 0, 0, -1)
+    for r in range(1, max_ring + 1):
+        last = dist == r - 1
+        near = np.zeros_like(last)
+        for axis in range(3):
+            for s in (1, -1):
+                moved = np.roll(last, s, axis=axis)
+                edge = [slice(None)] * 3
+                edge[axis] = 0 if s == 1 else -1
+                moved[tuple(edge)] = False  # no wrapping round the grid
+                near |= moved
+        dist[near & (dist == -1) & (label == FLUID)] = r
+    return dist
+
+
+def test_the_rings_are_the_graph_distance_through_fluid_cells():
+    """Random probes, fluid and static solids (which the rings go round, not through), grids
+    thin along any axis: each cell's ring is its layer by layer distance from the probe."""
+    rng = np.random.default_rng(5)
+    for trial in range(60):
+        shape = tuple(int(n) for n in rng.integers(1, 9, size=3))
+        label = rng.choice([FLUID, FLUID, FLUID, FLUID, STATIC_SOLID, 0, 1], size=shape)
+        label = label.astype(np.int32)
+        max_ring = int(rng.integers(1, 9))
+        dist = np.empty(shape, dtype=np.int32)
+        probe_rings(label, max_ring, dist)
+        np.testing.assert_array_equal(dist, _rings_by_layers(label, max_ring),
+                                      err_msg=f"trial {trial}")  # fmt: skip
