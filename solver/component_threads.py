@@ -25,7 +25,7 @@ import os
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import TypeVar
+from typing import Generic, TypeVar
 
 AUTO_THREADS = 2
 AUTO_MIN_SAMPLES = {2: 32768, 3: 8192}  # by the grid's dimension
@@ -162,3 +162,29 @@ def run_beside(
     if error is not None:
         raise error
     return mine, results  # type: ignore[return-value]
+
+
+class BesideJob(Generic[T]):
+    """A job of the caller's that runs beside this thread's own work: started on a pool thread
+    now when ``threads`` > 1; with one thread, run here when :meth:`result` asks for it."""
+
+    def __init__(self, job: Callable[[], T], threads: int) -> None:
+        self._job = job
+        self._future = _pool(1).submit(job) if threads > 1 else None
+
+    def result(self) -> T:
+        """The job's result, once it has finished (an exception it raised is raised here)."""
+        if self._future is None:
+            return self._job()
+        return self._future.result()
+
+    def settle(self) -> None:
+        """Wait until the job has finished, without its result or error: for a caller whose own
+        work failed and raises its own error, so that nothing is left running behind it (with
+        one thread the job never starts)."""
+        if self._future is None:
+            return
+        try:
+            self._future.result()
+        except BaseException:  # the caller's own error is the one raised
+            pass

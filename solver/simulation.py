@@ -19,6 +19,7 @@ from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import DomainBoundary
 from solver.component_threads import (
     AUTO_THREADS,
+    BesideJob,
     run_beside,
     run_components,
     thread_count,
@@ -213,8 +214,17 @@ class Simulation:
         self._apply_boundaries()
 
     # -- the step ---------------------------------------------------------------------------
-    def step(self, dt_s: float) -> StepStats:
-        """Advance by ``dt_s`` seconds (any positive value: the scheme has no stability limit)."""
+    def step(self, dt_s: float, beside: Callable[[], object] | None = None) -> StepStats:
+        """Advance by ``dt_s`` seconds (any positive value: the scheme has no stability limit).
+
+        ``beside``: work of the caller's that needs this step's geometry but not its flow (a
+        paint model's exchange with the brush). It runs once the probes have moved and the
+        boundaries are set: with a second thread, on it, while this one solves the pressure
+        (the other thread's slack); with one, after the forces. It must write nothing this
+        step reads or writes; it may read the labels, the cut geometry and the probes, which
+        the rest of the step leaves as they are. An exception it raises is raised here once the
+        step is done and counted (an error of the step's own is raised instead, once the job
+        has finished); the wait for it is the sub-step ``beside``."""
         if not (np.isfinite(dt_s) and dt_s > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt_s}")
         g, st, cfg = self.grid, self.state, self.settings
@@ -241,7 +251,6 @@ class Simulation:
         self._apply_boundaries()
         t2 = time.perf_counter()
         ms["boundaries"] = 1e3 * (t2 - t1)
-        rho = self.fluid.density_kg_m3
         system = None
         if self.cut is not None:
             system = self._assemble_pressure()
@@ -261,6 +270,32 @@ class Simulation:
         visc = self._diffuse(dt_s, preload, system)
         t3 = time.perf_counter()
         ms["viscosity"] = 1e3 * (t3 - t2b)
+        job = None if beside is None else BesideJob(beside, self.component_threads())
+        try:
+            report = self._project(dt_s, system, preload)
+            t4 = time.perf_counter()
+            ms["projection"] = 1e3 * (t4 - t3)
+            self._last_dt = dt_s
+            self._compute_forces()
+        except BaseException:
+            if job is not None:
+                job.settle()
+            raise
+        t5 = time.perf_counter()
+        ms["forces"] = 1e3 * (t5 - t4)
+        self.time_s += dt_s
+        if job is not None:
+            job.result()
+            ms["beside"] = 1e3 * (time.perf_counter() - t5)
+        return StepStats(self.time_s, 1e3 * (time.perf_counter() - t0), ms, report, visc)
+
+    def _project(
+        self, dt_s: float, system: StencilSystem | None, preload: Multigrid | None
+    ) -> SolveReport:
+        """The pressure projection of a step (the cut cells' ``system`` when there is one, its
+        hierarchy ``preload``-ed beside the viscosity when given); updates the pressure."""
+        g, st, cfg = self.grid, self.state, self.settings
+        rho = self.fluid.density_kg_m3
         phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
         if system is not None and self.cut is not None:
             pressure_solve = self._pressure_solve
@@ -287,14 +322,7 @@ class Simulation:
             st.pressure = st.pressure + phi * (rho / dt_s)
         else:
             st.pressure = phi * (rho / dt_s)
-        t4 = time.perf_counter()
-        ms["projection"] = 1e3 * (t4 - t3)
-        self._last_dt = dt_s
-        self._compute_forces()
-        t5 = time.perf_counter()
-        ms["forces"] = 1e3 * (t5 - t4)
-        self.time_s += dt_s
-        return StepStats(self.time_s, 1e3 * (t5 - t0), ms, report, visc)
+        return report
 
     def _assemble_pressure(self) -> StencilSystem:
         """The cut-cell pressure matrix of this step, in the system kept from step to step.

@@ -146,7 +146,8 @@ class PaintGridDepthAveraged(PaintModel):
             names = [self.canvas.pigment_names[p] for p in used]
             report = self._exchange(q, pose, dt_s, reservoir, names)
             clock.mark("exchange")
-            substeps = transport(q, sim.state.comps, sim.state.face_types, 2, h, dt_s)
+            substeps = transport(q, sim.state.comps, sim.state.face_types, 2, h, dt_s,
+                                 sim.component_threads())  # fmt: skip
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)

@@ -25,6 +25,8 @@ the grid's floor (bristles pressed flat), so the footprint grows with pressure.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
@@ -173,13 +175,22 @@ class PaintGrid3D(PaintModel):
         clock.mark("read")
         band = np.zeros((len(used), *outer.shape[1:]))  # the far field's change
         sim.settings = self.step_settings()
-        try:
-            sim.step(dt_s)
-            clock.mark("solver")
-            names = [self.canvas.pigment_names[p] for p in used]
+        names = [self.canvas.pigment_names[p] for p in used]
+        exchanged: list[tuple[CellSpace, ExchangeReport, float]] = []
+
+        def exchange() -> None:
+            # the brush's exchange needs the step's geometry, not its flow: it runs beside the
+            # pressure solve (:meth:`solver.simulation.Simulation.step`'s ``beside``)
+            start = time.perf_counter()
             space = self._cell_space(sim.state.label)
             report = self._exchange(q, pose, dt_s, reservoir, names, space)
-            clock.mark("exchange")
+            exchanged.append((space, report, 1e3 * (time.perf_counter() - start)))
+
+        try:
+            sim.step(dt_s, beside=exchange)
+            clock.mark("solver")
+            space, report, exchange_ms = exchanged[0]
+            clock.ms["exchange"] = exchange_ms  # on the other thread, within the solver's
             if self.scene.texel_flow:
                 flow = column_face_velocity(q.sum(axis=0), sim.state.comps, sim.state.face_types)
                 if not all(np.isfinite(f).all() for f in flow):
@@ -242,14 +253,16 @@ class PaintGrid3D(PaintModel):
         open_frac = None if cut is None else cut.open_frac
         fluid = None if cut is None else cut.fluid_frac
         vel, types = paint_faces(sim.state.comps, sim.state.face_types, label, open_frac, fluid)
+        threads = sim.component_threads()  # the pigments' fields on the solver's threads
         if self.far == 0:
-            substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s)
+            substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s, threads)
         else:
             b = self.far
             on_canvas = self.outer.on_canvas()
             faces = side_faces(sim.state.comps, sim.state.face_types, open_frac, on_canvas, b)
             ring = outer[:, b - 1 : outer.shape[1] - b + 1, b - 1 : outer.shape[2] - b + 1]
-            substeps, gains = padded_transport(q, vel, types, *faces, ring, self.cell_size_m, dt_s)
+            substeps, gains = padded_transport(q, vel, types, *faces, ring, self.cell_size_m, dt_s,
+                                               threads)  # fmt: skip
             band += band_change(gains, outer, on_canvas, b)
         share = vacated_share(label_before, label, fluid_before, fluid)
         lay_trail(q, label, share, space)

@@ -14,6 +14,7 @@ from solver.component_threads import (
     AUTO_MIN_SAMPLES,
     AUTO_THREADS,
     MAX_THREADS,
+    BesideJob,
     quota_cores,
     run_beside,
     run_components,
@@ -224,3 +225,86 @@ def test_a_container_s_cpu_quota_caps_the_cores():
     for bad in ("", "garbage", "1 2 3", "0 100000", "nan 100000", "100000 0"):
         assert quota_cores(bad) is None
     assert 1 <= usable_cores() <= (os.cpu_count() or 1)
+
+
+def test_a_beside_job_runs_on_another_thread_at_once_or_here_when_asked():
+    here = threading.current_thread().name
+    started = threading.Event()
+    where: list[str] = []
+
+    def job() -> int:
+        where.append(threading.current_thread().name)
+        started.set()
+        return 42
+
+    beside = BesideJob(job, 2)
+    assert started.wait(5.0)  # it began without being asked
+    assert beside.result() == 42 and where == [where[0]] and where[0] != here
+    alone = BesideJob(job, 1)
+    assert len(where) == 1  # one thread: not yet
+    assert alone.result() == 42 and where[1] == here
+
+
+def test_a_beside_job_s_error_is_raised_by_result_and_swallowed_by_settle():
+    def failing() -> None:
+        raise ValueError("job failed")
+
+    with pytest.raises(ValueError, match="job failed"):
+        BesideJob(failing, 2).result()
+    finished = threading.Event()
+    gate = threading.Event()
+
+    def slow() -> None:
+        gate.wait(5.0)
+        finished.set()
+        raise ValueError("also failed")
+
+    job = BesideJob(slow, 2)
+    gate.set()
+    job.settle()  # waits for the end, raises nothing
+    assert finished.is_set()
+    never: list[int] = []
+    BesideJob(lambda: never.append(1), 1).settle()
+    assert never == []  # with one thread a settled job never runs
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_step_runs_its_beside_job_once_with_the_step_s_geometry(threads):
+    """The job sees the labels and probe of the step (the probe already moved) and leaves the
+    step's values as they were without it."""
+    plain, with_job = _stirred(3, threads), _stirred(3, threads)
+    seen: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def look() -> None:
+        seen.append((with_job.state.label.copy(), with_job.probes[0].centre_m.copy()))
+
+    for _ in range(3):
+        plain.step(0.02)
+        stats = with_job.step(0.02, beside=look)
+        assert stats.substep_ms["beside"] >= 0.0
+        label, centre = seen[-1]
+        assert np.array_equal(label, with_job.state.label)
+        np.testing.assert_array_equal(centre, with_job.probes[0].centre_m)
+    assert len(seen) == 3
+    assert not np.array_equal(seen[0][0], seen[-1][0])  # the box moved across cells
+    for x, y in zip(plain.state.comps, with_job.state.comps, strict=True):
+        assert np.array_equal(x, y)
+    assert "beside" not in plain.step(0.02).substep_ms
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_failing_beside_job_raises_from_the_step_after_it_is_done(threads):
+    sim = _stirred(3, threads)
+
+    def failing() -> None:
+        raise ValueError("the caller's job failed")
+
+    plain = _stirred(3, threads)
+    with pytest.raises(ValueError, match="the caller's job failed"):
+        sim.step(0.02, beside=failing)
+    plain.step(0.02)
+    assert sim.time_s == plain.time_s  # the step itself was done and counted
+    assert np.array_equal(sim.state.pressure, plain.state.pressure)
+    sim.step(0.02)  # and the next runs as usual
+    plain.step(0.02)
+    assert np.array_equal(sim.state.comps[0], plain.state.comps[0])
