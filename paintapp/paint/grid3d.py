@@ -31,6 +31,7 @@ import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from paintapp.canvas.model import Canvas
+from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.exchange import (
     CellSpace,
@@ -176,20 +177,22 @@ class PaintGrid3D(PaintModel):
         band = np.zeros((len(used), *outer.shape[1:]))  # the far field's change
         sim.settings = self.step_settings()
         names = [self.canvas.pigment_names[p] for p in used]
-        exchanged: list[tuple[CellSpace, ExchangeReport, float]] = []
+        exchanged: list[tuple[CellSpace, ExchangeReport, BristleTexture | None, float]] = []
 
         def exchange() -> None:
-            # the brush's exchange needs the step's geometry, not its flow: it runs beside the
-            # pressure solve (:meth:`solver.simulation.Simulation.step`'s ``beside``)
+            # the brush's exchange needs the step's geometry, not its flow, and its bristle
+            # texture neither: they run beside the pressure solve
+            # (:meth:`solver.simulation.Simulation.step`'s ``beside``)
             start = time.perf_counter()
             space = self._cell_space(sim.state.label)
             report = self._exchange(q, pose, dt_s, reservoir, names, space)
-            exchanged.append((space, report, 1e3 * (time.perf_counter() - start)))
+            texture = self.texture(pose, centre_m)
+            exchanged.append((space, report, texture, 1e3 * (time.perf_counter() - start)))
 
         try:
             sim.step(dt_s, beside=exchange)
             clock.mark("solver")
-            space, report, exchange_ms = exchanged[0]
+            space, report, texture, exchange_ms = exchanged[0]
             clock.ms["exchange"] = exchange_ms  # on the other thread, within the solver's
             if self.scene.texel_flow:
                 flow = column_face_velocity(q.sum(axis=0), sim.state.comps, sim.state.face_types)
@@ -204,7 +207,6 @@ class PaintGrid3D(PaintModel):
         delta = np.zeros_like(outer)
         delta[used] = band
         delta[used, b : b + nx, b : b + ny] += (q - before).sum(axis=3) * h
-        texture = self.texture(pose, centre_m)
         self.outer.write_back(self.canvas, delta, texture, gathered=outer,
                               sweep_texels=self.sweep_texels())  # fmt: skip
         if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
