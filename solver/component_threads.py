@@ -21,6 +21,7 @@ sample, 64² 1.15 -> 1.39, 128² 3.75 -> 3.69 (16512), 160² 5.91 -> 5.80 (25760
 from __future__ import annotations
 
 import functools
+import itertools
 import os
 import threading
 from collections.abc import Callable, Sequence
@@ -162,6 +163,58 @@ def run_beside(
     if error is not None:
         raise error
     return mine, results  # type: ignore[return-value]
+
+
+def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Callable[[], T]) -> T:
+    """``work(0)``, ..., ``work(count - 1)`` on ``threads`` threads while one pool thread first
+    runs ``lead`` (work of another kind): every thread takes the next task no thread has taken
+    yet, so the tasks even out what ``lead`` costs. The tasks and ``lead`` must write nothing
+    another of them reads. Returns ``lead``'s result. With one thread, ``lead`` and then the
+    tasks, in order, here. As in :func:`run_components`, an exception stops its thread's share
+    (and every thread's next take) and is raised here once the others have finished."""
+    if threads <= 1:
+        result = lead()
+        for a in range(count):
+            work(a)
+        return result
+    tasks = itertools.count()  # next() on it is atomic under the interpreter lock
+    failed = threading.Event()
+
+    def take() -> None:
+        try:
+            for a in tasks:
+                if a >= count or failed.is_set():
+                    return
+                work(a)
+        except BaseException:
+            failed.set()
+            raise
+
+    def leading() -> T:
+        try:
+            result = lead()
+        except BaseException:
+            failed.set()
+            raise
+        take()
+        return result
+
+    pool = _pool(threads - 1)
+    futures = [pool.submit(leading)] + [pool.submit(take) for _ in range(threads - 2)]
+    error: BaseException | None = None
+    try:
+        take()
+    except BaseException as exc:
+        error = exc
+    results = []
+    for future in futures:
+        try:
+            results.append(future.result())
+        except BaseException as exc:
+            error = error or exc
+    if error is not None:
+        raise error
+    return results[0]  # type: ignore[return-value]
 
 
 class BesideJob(Generic[T]):

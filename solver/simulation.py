@@ -233,27 +233,37 @@ class Simulation:
         vel = (st.comps[0], st.comps[1], st.comps[2])
         if self._needs_previous_state():
             self._previous = (vel, st.label.copy())
+        for probe in self.probes:
+            probe.advance(self.time_s, dt_s)
+        geometry: list[StencilSystem | None] = []
+
+        def place_probes() -> None:
+            # the probes' geometry (and the cut cells' pressure matrix, which depends on
+            # nothing else) reads and writes nothing the advection does
+            self._rasterize()
+            geometry.append(None if self.cut is None else self._assemble_pressure())
+
+        threads = self.component_threads()
         if cfg.advection == "none":  # Stokes flow: no self-advection, the velocity carries over
             keep = self._needs_previous_state()  # the momentum balance keeps the old arrays
             new = [st.comps[a].copy() if keep else st.comps[a] for a in range(g.dim)]
         else:
             scheme = SCHEMES[cfg.advection]
-            new = advect_velocity(vel, g.dim, g.cell_size_m, dt_s, scheme, self.component_threads())
+            # with a second thread, the geometry runs beside the advection
+            lead = place_probes if threads > 1 else None
+            new = advect_velocity(vel, g.dim, g.cell_size_m, dt_s, scheme, threads, lead)
         for a in range(g.dim):
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]
             st.comps[a] = new[a]
         t1 = time.perf_counter()
         ms["advect"] = 1e3 * (t1 - t0)
-        for probe in self.probes:
-            probe.advance(self.time_s, dt_s)
-        self._rasterize()
+        if not geometry:
+            place_probes()
+        system = geometry[0]
         self._apply_boundaries()
         t2 = time.perf_counter()
         ms["boundaries"] = 1e3 * (t2 - t1)
-        system = None
-        if self.cut is not None:
-            system = self._assemble_pressure()
         if cfg.incremental_pressure:
             active = system.active if system is not None else st.label == FLUID
             self._old_pressure_gradient(active, dt_s)

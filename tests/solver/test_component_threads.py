@@ -18,6 +18,7 @@ from solver.component_threads import (
     quota_cores,
     run_beside,
     run_components,
+    run_shared,
     thread_count,
     usable_cores,
 )
@@ -308,3 +309,58 @@ def test_a_failing_beside_job_raises_from_the_step_after_it_is_done(threads):
     sim.step(0.02)  # and the next runs as usual
     plain.step(0.02)
     assert np.array_equal(sim.state.comps[0], plain.state.comps[0])
+
+
+def test_run_shared_runs_every_task_once_and_the_lead_on_a_pool_thread():
+    here = threading.current_thread().name
+    lead_running = threading.Event()
+    release = threading.Event()
+    done: dict[int, str] = {}
+
+    def lead() -> str:
+        lead_running.set()
+        release.wait(5.0)
+        return threading.current_thread().name
+
+    def work(a: int) -> None:
+        if a == 0:
+            assert lead_running.wait(5.0)  # the lead started beside the first task
+        done[a] = threading.current_thread().name
+        if a == 5:
+            release.set()  # the lead ends once this thread has taken six tasks
+
+    lead_thread = run_shared(work, 12, 2, lead)
+    assert lead_thread != here
+    assert sorted(done) == list(range(12))
+    assert all(done[a] == here for a in range(6))  # this thread took them while the lead ran
+    order: list[str] = []
+    assert run_shared(lambda a: order.append(f"t{a}"), 2, 1, lambda: order.append("lead")) is None
+    assert order == ["lead", "t0", "t1"]  # one thread: the lead first, here
+
+
+def test_run_shared_raises_once_every_thread_has_stopped():
+    lead_done: list[int] = []
+
+    def lead() -> None:
+        threading.Event().wait(0.05)
+        lead_done.append(1)
+
+    def work(a: int) -> None:
+        if a == 0:
+            raise ValueError("task 0 failed")
+
+    with pytest.raises(ValueError, match="task 0 failed"):
+        run_shared(work, 4, 2, lead)
+    assert lead_done == [1]  # raised only once the lead had finished
+    taken: list[int] = []
+
+    def failing_lead() -> None:
+        raise RuntimeError("the lead failed")
+
+    def slow(a: int) -> None:
+        taken.append(a)
+        threading.Event().wait(0.01)
+
+    with pytest.raises(RuntimeError, match="the lead failed"):
+        run_shared(slow, 1000, 2, failing_lead)
+    assert len(taken) < 1000  # the lead's failure stopped the takes
