@@ -531,17 +531,28 @@ class Simulation:
         origin = tuple(g.origin_m[a] + off[a] * g.cell_size_m for a in range(3))
         self.grid = Grid(g.dim, g.cells, g.cell_size_m, origin)  # type: ignore[arg-type]
         st = self.state
-        if whole:
-            cells = [round(o) for o in off]
-            st.comps = [shifted(q, cells) for q in st.comps]
-            st.pressure = shifted(st.pressure, cells)
-        else:
-            st.comps = [shifted_by(q, off) for q in st.comps]
-            st.pressure = shifted_by(st.pressure, off)
-        self._was_active = shifted(self._was_active, [round(o) for o in off])
         if not whole:
-            self._rasterize()  # the geometry is sampled afresh at the new cell centres
-        elif self.cut is not None and self.cut.shift((cells[0], cells[1], cells[2]), g.cells):
+            # the fields' fractional move, beside the geometry sampled afresh at the new cell
+            # centres (with a second thread): neither reads what the other writes
+            def move_fields() -> None:
+                st.comps = [shifted_by(q, off) for q in st.comps]
+                st.pressure = shifted_by(st.pressure, off)
+
+            job = BesideJob(move_fields, self.component_threads())
+            try:
+                self._rasterize()
+            except BaseException:
+                job.settle()
+                raise
+            job.result()
+            self._was_active = shifted(self._was_active, [round(o) for o in off])
+            self._apply_boundaries(relax=False)
+            return
+        cells = [round(o) for o in off]
+        st.comps = [shifted(q, cells) for q in st.comps]
+        st.pressure = shifted(st.pressure, cells)
+        self._was_active = shifted(self._was_active, cells)
+        if self.cut is not None and self.cut.shift((cells[0], cells[1], cells[2]), g.cells):
             # the probes stood still: their geometry moves with the grid (no new distances)
             self._rigid, ref = self._rigid_and_reference()
             self._motion = (self._rigid[0], self._rigid[1], self._rigid[2], ref)

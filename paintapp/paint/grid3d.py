@@ -49,6 +49,7 @@ from paintapp.paint.texel_velocity import column_face_velocity
 from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
 from paintapp.paint.wet_flow import flow_wet_paint
 from solver.boundary import DomainBoundary, Side
+from solver.component_threads import BesideJob
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.scalar_transport import transport
@@ -113,6 +114,9 @@ class PaintGrid3D(PaintModel):
         self.far = scene.far_field_cells if scene.sides == "open" else 0
         w, b = self.window, self.far
         self.outer = ColumnWindow(canvas, (w.cells[0] + 2 * b, w.cells[1] + 2 * b), w.k, w.kernel)
+        #: The canvas's columns read beside the last re-centring, with the window's origin
+        #: (texels) they were read at; the step that follows takes them (:meth:`_shifted`).
+        self._read_ahead: tuple[tuple[float, float], np.ndarray] | None = None
 
     def band_columns(self) -> np.ndarray:
         """Wet paint per column under the window and, with open sides, the band around it:
@@ -142,8 +146,26 @@ class PaintGrid3D(PaintModel):
         )
 
     def _shifted(self, di: float, dj: float) -> None:
-        if self.sim is not None:
+        if self.sim is None:
+            return
+        # the canvas under the moved window is read beside the fluid's move (which reads and
+        # writes only the simulation's state), for the step that follows
+        origin = self.window.origin_texel
+        job = BesideJob(self.band_columns, self.sim.component_threads())
+        try:
             self.sim.shift((di, dj, 0))
+        except BaseException:
+            job.settle()
+            raise
+        self._read_ahead = (origin, job.result())
+
+    def _columns(self) -> np.ndarray:
+        """:meth:`band_columns`, as read beside the re-centring when the window has not moved
+        since (nothing writes the canvas between a re-centring and its step)."""
+        ahead, self._read_ahead = self._read_ahead, None
+        if ahead is not None and ahead[0] == self.window.origin_texel:
+            return ahead[1]
+        return self.band_columns()
 
     def viscosity_field(self, q: np.ndarray) -> np.ndarray:
         """Cell viscosities (Pa s) from paint fields (P, nx, ny, nz)."""
@@ -158,7 +180,7 @@ class PaintGrid3D(PaintModel):
         clock = PhaseTimer()
         sim, probe, h = self.sim, self.probe, self.cell_size_m
         b, nx, ny = self.far, self.cells[0], self.cells[1]
-        outer = self.band_columns()
+        outer = self._columns()
         all_columns = outer[:, b : b + nx, b : b + ny]
         used = self.used_channels(all_columns, reservoir)
         columns = all_columns[used]
