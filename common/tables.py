@@ -68,6 +68,13 @@ class Table:
             raise self.error(name, f"expected a number {wanted}{hint}, got {value!r}")
         return value
 
+    def boolean(self, name: str, default: Any = _MISSING) -> bool:
+        """``true`` or ``false``."""
+        value = self.raw(name, default)
+        if not isinstance(value, bool):
+            raise self.error(name, f"expected true or false, got {value!r}")
+        return value
+
     def integer(
         self, name: str, default: Any = _MISSING, *, minimum: int = 0, maximum: int | None = None
     ) -> int:

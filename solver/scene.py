@@ -319,6 +319,7 @@ def _settings(t: Table) -> SolverSettings:
         force_model=t.string("force_model", "stress", choices=list(MODELS)),
         drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),
         **method_keys(t),
+        warm_start=t.boolean("warm_start", False),
     )
     t.finish()
     return s

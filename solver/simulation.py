@@ -8,6 +8,7 @@ probe.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -16,7 +17,7 @@ import numpy as np
 
 from solver import drag_models
 from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
-from solver.boundary import DomainBoundary
+from solver.boundary import OUTFLOW, DomainBoundary
 from solver.component_threads import (
     AUTO_THREADS,
     BesideJob,
@@ -55,6 +56,7 @@ from solver.solver_settings import (
 )
 from solver.stress import stress_integral
 from solver.viscosity import diffuse
+from solver.warm_start import WarmStart
 
 __all__ = ["Fluid", "ProbeForce", "Simulation", "SolverSettings", "StepStats"]
 
@@ -186,6 +188,10 @@ class Simulation:
             self._pressure_mg.solve if self._pressure_mg is not None else solve
         )
         self._viscosity_solves: dict[str, list[LinearSolve]] = {}
+        #: Each viscosity component's solve, and the incremental pressure's, starts from the
+        #: line guess through the caller's start and its last solution (:mod:`solver.warm_start`).
+        self._viscosity_warm = [WarmStart() for _ in range(3)]
+        self._pressure_warm = WarmStart()
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
         self._was_active = np.zeros(grid.cells, dtype=np.bool_)
         self.static_solid = (
@@ -307,10 +313,17 @@ class Simulation:
         g, st, cfg = self.grid, self.state, self.settings
         rho = self.fluid.density_kg_m3
         phi = np.zeros(g.cells) if cfg.incremental_pressure else st.pressure * (dt_s / rho)
+        pressure_solve = self._pressure_solve
+        if preload is not None:
+            pressure_solve = _loaded_solve(preload)
+        # (Chorin's scheme starts from the last pressure itself; a closed domain's is fixed
+        # only up to a constant, which a warm start would carry from step to step)
+        open_domain = bool((self._kinds[: g.dim] == OUTFLOW).any())
+        if cfg.warm_start and cfg.incremental_pressure and open_domain:
+            pressure_solve = functools.partial(self._pressure_warm.solve, pressure_solve)
+        else:
+            self._pressure_warm.forget()
         if system is not None and self.cut is not None:
-            pressure_solve = self._pressure_solve
-            if preload is not None:
-                pressure_solve = _loaded_solve(preload)
             report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
                                  self.cut.owner_face, self._rigid,
                                  g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
@@ -326,7 +339,7 @@ class Simulation:
                 phi,
                 cfg.pressure_tolerance,
                 cfg.max_iterations,
-                self._pressure_solve,
+                pressure_solve,
             )
         if cfg.incremental_pressure:
             st.pressure = st.pressure + phi * (rho / dt_s)
@@ -483,13 +496,19 @@ class Simulation:
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
         """One solve per velocity component for preconditioner ``name`` (a multigrid keeps its
-        hierarchy from step to step)."""
+        hierarchy from step to step), each from the last step's solution with ``warm_start``."""
         if name not in self._viscosity_solves:
             g = self.grid
             self._viscosity_solves[name] = [
                 _linear_solver(name, g.face_shape(a), g.dim, DIFFUSION_SCALES) for a in range(g.dim)
             ]
-        return self._viscosity_solves[name]
+        solves = self._viscosity_solves[name]
+        if not self.settings.warm_start:
+            for warm in self._viscosity_warm:
+                warm.forget()
+            return solves
+        return [functools.partial(self._viscosity_warm[a].solve, solve)
+                for a, solve in enumerate(solves)]  # fmt: skip
 
     # -- fields the caller may set ---------------------------------------------------------------
     def set_viscosity(self, mu_pa_s: np.ndarray) -> None:
@@ -537,6 +556,8 @@ class Simulation:
             def move_fields() -> None:
                 st.comps = [shifted_by(q, off) for q in st.comps]
                 st.pressure = shifted_by(st.pressure, off)
+                for warm in (*self._viscosity_warm, self._pressure_warm):
+                    warm.move(lambda last: shifted_by(last, off))
 
             job = BesideJob(move_fields, self.component_threads())
             try:
@@ -551,6 +572,8 @@ class Simulation:
         cells = [round(o) for o in off]
         st.comps = [shifted(q, cells) for q in st.comps]
         st.pressure = shifted(st.pressure, cells)
+        for warm in (*self._viscosity_warm, self._pressure_warm):
+            warm.move(lambda last: shifted(last, cells))
         self._was_active = shifted(self._was_active, cells)
         if self.cut is not None and self.cut.shift((cells[0], cells[1], cells[2]), g.cells):
             # the probes stood still: their geometry moves with the grid (no new distances)
@@ -847,7 +870,13 @@ def _prepared(
     solve: LinearSolve,
 ) -> tuple[Callable[[StencilSystem], None], LinearSolve]:
     """``solve`` cut in two: what may run as soon as the system is assembled (a multigrid's
-    hierarchy), and the solve that follows it."""
+    hierarchy), and the solve that follows it (from the last solution, where ``solve`` is a
+    warm start's)."""
+    if isinstance(solve, functools.partial) and isinstance(
+        getattr(solve.func, "__self__", None), WarmStart
+    ):
+        prepare, inner = _prepared(solve.args[0])
+        return prepare, functools.partial(solve.func, inner)
     mg = getattr(solve, "__self__", None)
     if isinstance(mg, Multigrid):
         return mg.load, _loaded_solve(mg)

@@ -53,7 +53,12 @@ class SolverSettings:
     at once (the same values); 1 one after the other; 0 (the default) two where the cores and
     the grid's size make it pay (:mod:`solver.component_threads`). A 3D pressure solve of
     32768+ cells runs its large levels on as many (N >= 2), or under 0 on two or one, whichever
-    has cost less lately (:mod:`solver.timed_choice`); the same values either way."""
+    has cost less lately (:mod:`solver.timed_choice`); the same values either way.
+
+    ``warm_start``: each viscosity component's solve and the incremental pressure's start from
+    the last step's solutions, moved with the grid (:mod:`solver.warm_start`): for a grid that
+    rides with its probe, as the painting grid does (the paint scenes' default); off by default,
+    where a probe crosses a fixed grid and the advected velocity is the better start."""
 
     advection: str = "linear"
     pressure_tolerance: float = 1e-6
@@ -69,6 +74,7 @@ class SolverSettings:
     preconditioner: str = "multigrid"
     viscosity_preconditioner: str = "auto"
     threads: int = 0
+    warm_start: bool = False
 
     def viscosity_solver(self, coupling: float) -> str:
         """The viscosity preconditioner for a step whose largest ``2 dim nu dt / h^2`` is

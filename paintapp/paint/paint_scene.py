@@ -209,7 +209,7 @@ class PaintScene:
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
         default_factory=lambda: SolverSettings(
-            pressure_tolerance=1e-5, viscosity_tolerance=1e-4, max_iterations=400
+            pressure_tolerance=1e-5, viscosity_tolerance=1e-4, max_iterations=400, warm_start=True
         )
     )
     description: str = ""
@@ -286,13 +286,6 @@ class PaintScene:
         return self.viscosity_pa_s * self.air_viscosity_ratio
 
 
-def _boolean(table: Table, name: str, default: bool) -> bool:
-    value = table.raw(name, default)
-    if not isinstance(value, bool):
-        raise table.error(name, f"expected true or false, got {value!r}")
-    return value
-
-
 def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintScene:
     """Validate a parsed scene table; :class:`InputError` names the file and key."""
     top = Table(data, source, "")
@@ -327,9 +320,9 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         max_height_m=paint.number(
             "max_height_m", 0.002, minimum=1e-5, exclusive=True, maximum=0.05
         ),
-        settle_on_lift=_boolean(paint, "settle_on_lift", True),
-        texel_flow=_boolean(paint, "texel_flow", False),
-        sweep=_boolean(paint, "sweep", True),
+        settle_on_lift=paint.boolean("settle_on_lift", True),
+        texel_flow=paint.boolean("texel_flow", False),
+        sweep=paint.boolean("sweep", True),
         transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         push=brush.string("push", "distance", choices=list(PUSH_FILLS)),
@@ -339,6 +332,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
             viscosity_tolerance=solver.number("viscosity_tolerance", 1e-4, minimum=1e-12),
             max_iterations=solver.integer("max_iterations", 400, minimum=1),
             **method_keys(solver),
+            warm_start=solver.boolean("warm_start", True),
         ),
         description=description,
         choose=parse_choice(choose),
@@ -346,13 +340,6 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
     for table in (grid, paint, brush, solver, choose, top):
         table.finish()
     return scene
-
-
-def _flag(table: Table, name: str, default: bool) -> bool:
-    value = table.raw(name, default)
-    if not isinstance(value, bool):
-        raise table.error(name, f"expected true or false, got {value!r}")
-    return value
 
 
 def parse_choice(table: Table) -> ModelChoice:
@@ -364,9 +351,9 @@ def parse_choice(table: Table) -> ModelChoice:
     return ModelChoice(
         thin_below_m=thin,
         thick_above_m=thick,
-        dry_brush=_flag(table, "dry_brush", True),
-        fit_grid=_flag(table, "fit_grid", False),
-        used_pigments=_flag(table, "used_pigments", True),
+        dry_brush=table.boolean("dry_brush", True),
+        fit_grid=table.boolean("fit_grid", False),
+        used_pigments=table.boolean("used_pigments", True),
         stokes_below_re=table.number("stokes_below_re", 0.0, minimum=0.0, maximum=1.0),
     )
 

@@ -244,6 +244,13 @@ def test_the_solver_table_takes_threads_and_names_a_bad_count():
         parse_paint_scene({"solver": {"threads": 100}}, "x")
 
 
+def test_the_solver_table_takes_the_warm_start_on_by_default():
+    assert parse_paint_scene({}, "x").solver.warm_start  # the paint grid rides with the tip
+    assert not parse_paint_scene({"solver": {"warm_start": False}}, "x").solver.warm_start
+    with pytest.raises(InputError, match=r"solver\.warm_start"):
+        parse_paint_scene({"solver": {"warm_start": "yes"}}, "x")
+
+
 def test_the_solver_table_takes_the_boundary_method_and_names_a_bad_one():
     assert parse_paint_scene({}, "x").solver.boundary_method == "cutcell"
     scene = parse_paint_scene({"solver": {"boundary_method": "staircase"}}, "x")
