@@ -171,7 +171,8 @@ def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Ca
     yet, so the tasks even out what ``lead`` costs. The tasks and ``lead`` must write nothing
     another of them reads. Returns ``lead``'s result. With one thread, ``lead`` and then the
     tasks, in order, here. As in :func:`run_components`, an exception stops its thread's share
-    (and every thread's next take) and is raised here once the others have finished."""
+    (and every thread's next take) and is raised here once the others have finished. Neither
+    ``lead`` nor a task may hand work to this module's threads and wait for it."""
     if threads <= 1:
         result = lead()
         for a in range(count):
@@ -219,7 +220,9 @@ def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Ca
 
 class BesideJob(Generic[T]):
     """A job of the caller's that runs beside this thread's own work: started on a pool thread
-    now when ``threads`` > 1; with one thread, run here when :meth:`result` asks for it."""
+    now when ``threads`` > 1; with one thread, run here when :meth:`result` asks for it. The
+    job must not itself hand work to this module's threads and wait for it (the one pool thread
+    would wait on itself); jobs started one after another run in that order."""
 
     def __init__(self, job: Callable[[], T], threads: int) -> None:
         self._job = job
