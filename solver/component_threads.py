@@ -25,8 +25,8 @@ import itertools
 import os
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
-from typing import Generic, TypeVar
+from concurrent.futures import Future, ThreadPoolExecutor
+from typing import Any, Generic, TypeVar
 
 AUTO_THREADS = 2
 AUTO_MIN_SAMPLES = {2: 32768, 3: 8192}  # by the grid's dimension
@@ -154,15 +154,7 @@ def run_beside(
         mine = own(lambda i: futures[i].result())
     except BaseException as exc:
         error = exc
-    results: list[object] = []
-    for future in futures:
-        try:
-            results.append(future.result())
-        except BaseException as exc:
-            error = error or exc
-    if error is not None:
-        raise error
-    return mine, results  # type: ignore[return-value]
+    return mine, _finished(futures, error)  # type: ignore[return-value]
 
 
 def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Callable[[], T]) -> T:
@@ -201,13 +193,21 @@ def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Ca
         return result
 
     pool = _pool(threads - 1)
-    futures = [pool.submit(leading)] + [pool.submit(take) for _ in range(threads - 2)]
+    futures: list[Future[Any]] = [pool.submit(leading)]
+    futures += [pool.submit(take) for _ in range(threads - 2)]
     error: BaseException | None = None
     try:
         take()
     except BaseException as exc:
         error = exc
-    results = []
+    led: T = _finished(futures, error)[0]
+    return led
+
+
+def _finished(futures: Sequence[Future[Any]], error: BaseException | None) -> list[Any]:
+    """The futures' results once every one has finished; raises ``error`` (this thread's own),
+    else the first error a future raised."""
+    results: list[Any] = []
     for future in futures:
         try:
             results.append(future.result())
@@ -215,7 +215,7 @@ def run_shared(work: Callable[[int], object], count: int, threads: int, lead: Ca
             error = error or exc
     if error is not None:
         raise error
-    return results[0]  # type: ignore[return-value]
+    return results
 
 
 class BesideJob(Generic[T]):
