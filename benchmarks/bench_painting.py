@@ -4,9 +4,10 @@ Painting step: a loaded small round brush drags across a canvas already covered 
 of four pigments, through each painting scene's model, on canvases of 1024 and 4096 pixels (the
 canvas size sets the cell size in texels, so the transfer's cost); median over the steps after a
 warm-up, with the phases (follow: the grid re-centred on the tip, with the fluid's state; read:
-canvas to grid; solver; exchange with the brush; transport; write: grid to canvas). With two
-solver threads the exchange runs on the other thread beside the pressure solve: its time is
-within the solver's, not added to the step (and part of the read beside the re-centring). A last row
+canvas to grid; solver; exchange with the brush; transport; write: grid to canvas). The exchange
+runs within the solver's step (on the other thread beside the pressure solve with two solver
+threads, after it with one): its time is part of the solver's, not added to the step; with two,
+part of the read runs beside the re-centring. A last row
 takes the painting window's defaults instead: its new canvas (A4 at 0.1 mm) and brush
 (``round_large``), the default scene with the window's one solver thread (``--window-steps 0``
 skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa

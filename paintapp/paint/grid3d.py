@@ -215,7 +215,7 @@ class PaintGrid3D(PaintModel):
             sim.step(dt_s, beside=exchange)
             clock.mark("solver")
             space, report, texture, exchange_ms = exchanged[0]
-            clock.ms["exchange"] = exchange_ms  # on the other thread, within the solver's
+            clock.ms["exchange"] = exchange_ms  # within the solver's wall time
             if self.scene.texel_flow:
                 flow = column_face_velocity(q.sum(axis=0), sim.state.comps, sim.state.face_types)
                 if not all(np.isfinite(f).all() for f in flow):
