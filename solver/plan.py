@@ -145,9 +145,10 @@ def _viscosity(sim: Simulation, dt_s: float) -> Decision:
     coupling = 2 * d * number
     kind = cfg.viscosity_solver(coupling)
     names = {"jacobi": "diagonally preconditioned CG", "multigrid": "MGPCG", "mic0": "MIC(0)-PCG"}
+    start = "the last step's solution (warm_start)" if cfg.warm_start else "the advected velocity"
     chosen = (
         f"implicit, {d} {names[kind]} solves per step (tolerance {cfg.viscosity_tolerance:g}, "
-        f"at most {cfg.max_iterations} iterations)"
+        f"at most {cfg.max_iterations} iterations), each from {start}"
     )
     if cfg.viscosity_preconditioner == "auto":
         side = "<=" if kind == "jacobi" else ">"
@@ -187,14 +188,23 @@ def _pressure(sim: Simulation) -> Decision:
     cfg = sim.settings
     solver = "MGPCG (multigrid V-cycle)" if cfg.preconditioner == "multigrid" else "MIC(0)-PCG"
     scheme = "incremental pressure correction" if cfg.incremental_pressure else "Chorin projection"
+    outflow = sim.boundary.has_outflow()
+    if not cfg.incremental_pressure:
+        start = "the last pressure"
+    elif cfg.warm_start and outflow:
+        start = "the last step's increment (warm_start)"
+    else:
+        start = "a zero increment"
     chosen = (
         f"{scheme}, {solver} to relative residual {cfg.pressure_tolerance:g}, at most "
-        f"{cfg.max_iterations} iterations, warm-started"
+        f"{cfg.max_iterations} iterations, from {start}"
     )
-    if sim.boundary.has_outflow():
+    if outflow:
         reason = "outflow sides hold the pressure at zero"
     else:
         reason = "closed domain: pressure is defined up to a constant (the mean is removed)"
+        if cfg.warm_start and cfg.incremental_pressure:
+            reason += "; its increment starts cold (a warm start would carry the constant along)"
     return Decision("pressure", chosen, reason)
 
 

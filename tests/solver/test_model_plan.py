@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from paintapp.cli import main
+from solver.boundary import Side
 from solver.plan import Decision, explain, max_boundary_speed
 from solver.simulation import SolverSettings
 
@@ -35,6 +36,23 @@ def test_explain_names_the_probe_surfaces_and_the_pressure_solver(build):
     stair = _decisions(build.sim(16, 2, probes=[build.circle(2)], settings=settings))
     assert stair["probe surfaces"].chosen.startswith("staircase")
     assert "Chorin" in stair["pressure"].chosen and "MIC(0)" in stair["pressure"].chosen
+
+
+def test_explain_says_where_each_solve_starts(build):
+    cold = _decisions(build.sim(16, 2, probes=[build.circle(2)]))
+    assert "each from the advected velocity" in cold["viscosity"].chosen
+    assert "from a zero increment" in cold["pressure"].chosen
+    warm = SolverSettings(warm_start=True)
+    closed = _decisions(build.sim(16, 2, probes=[build.circle(2)], settings=warm))
+    assert "each from the last step's solution" in closed["viscosity"].chosen
+    assert "from a zero increment" in closed["pressure"].chosen  # the closed box's
+    assert "starts cold" in closed["pressure"].reason
+    opened = _decisions(build.sim(16, 2, probes=[build.circle(2)], settings=warm,
+                                  sides={"y_max": Side("outflow")}))  # fmt: skip
+    assert "from the last step's increment" in opened["pressure"].chosen
+    chorin = SolverSettings(warm_start=True, pressure_scheme="chorin")
+    last = _decisions(build.sim(16, 2, probes=[build.circle(2)], settings=chorin))
+    assert "from the last pressure" in last["pressure"].chosen
 
 
 def test_probe_forces_off_skips_the_force_work_and_leaves_the_flow_unchanged(build):
