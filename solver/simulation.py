@@ -188,8 +188,8 @@ class Simulation:
             self._pressure_mg.solve if self._pressure_mg is not None else solve
         )
         self._viscosity_solves: dict[str, list[LinearSolve]] = {}
-        #: Each viscosity component's solve, and the incremental pressure's, starts from the
-        #: line guess through the caller's start and its last solution (:mod:`solver.warm_start`).
+        #: Each viscosity component's solve, and the incremental pressure's, with ``warm_start``
+        #: starts from its last solution (:mod:`solver.warm_start`).
         self._viscosity_warm = [WarmStart() for _ in range(3)]
         self._pressure_warm = WarmStart()
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
@@ -286,7 +286,7 @@ class Simulation:
         visc = self._diffuse(dt_s, preload, system)
         t3 = time.perf_counter()
         ms["viscosity"] = 1e3 * (t3 - t2b)
-        job = None if beside is None else BesideJob(beside, self.component_threads())
+        job = None if beside is None else BesideJob(beside, threads)
         try:
             report = self._project(dt_s, system, preload)
             t4 = time.perf_counter()

@@ -51,6 +51,7 @@ def _stirred(dim: int, threads: int, nu: float = 0.01, **settings) -> Simulation
         {"nu": 0.0},  # inviscid: the pressure's hierarchy is still built beside
         {"advection": "maccormack"},
         {"viscosity_preconditioner": "multigrid"},
+        {"viscosity_preconditioner": "multigrid", "warm_start": True},
         {"boundary_method": "staircase", "viscosity_preconditioner": "mic0"},
     ],
 )
