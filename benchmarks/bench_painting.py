@@ -6,8 +6,9 @@ canvas size sets the cell size in texels, so the transfer's cost); median over t
 warm-up, with the phases (follow: the grid re-centred on the tip, with the fluid's state; read:
 canvas to grid; solver; exchange with the brush; transport; write: grid to canvas). The exchange
 runs within the solver's step (on the other thread beside the pressure solve with two solver
-threads, after it with one): its time is part of the solver's, not added to the step; with two,
-part of the read runs beside the re-centring. A last row
+threads, after it with one): its time is part of the solver's, not added to the step. Likewise
+the canvas's columns are read within the re-centring (beside it with two threads), so the follow
+phase holds that part of the read. A last row
 takes the painting window's defaults instead: its new canvas (A4 at 0.1 mm) and brush
 (``round_large``), the default scene with the window's one solver thread (``--window-steps 0``
 skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
