@@ -45,11 +45,7 @@ import time
 import numpy as np
 from scipy.signal import savgol_filter
 
-from solver.boundary import DomainBoundary, Side
-from solver.grid import Grid
-from solver.probes import Probe
-from solver.shapes import Ball
-from solver.simulation import Fluid, Simulation, SolverSettings
+from solver import Ball, DomainBoundary, Fluid, Grid, Probe, Side, Simulation, SolverSettings
 
 METHODS = ("staircase", "cutcell")
 SECTIONS = ("towed", "sphere", "st", "st2", "couette", "stokes", "cost", "sweep")

@@ -33,11 +33,7 @@ import time
 import numpy as np
 from tqdm import tqdm
 
-from solver.component_threads import MAX_THREADS
-from solver.grid import Grid
-from solver.probes import Probe
-from solver.shapes import Box
-from solver.simulation import Fluid, Simulation, SolverSettings
+from solver import MAX_THREADS, Box, Fluid, Grid, Probe, Simulation, SolverSettings
 
 CASES = [("2D 64x64", 2, 64), ("2D 128x128", 2, 128), ("3D 32^3", 3, 32), ("3D 64^3", 3, 64)]
 

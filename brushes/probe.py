@@ -18,7 +18,7 @@ from brushes.presets import BrushPreset
 from brushes.tips import Section, Shape
 from common import quaternion as _rot
 from common.tilt import yaw_angle
-from solver.probes import Probe
+from solver import Probe
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from solver import kernel
 
 ROUND_CONE = 0
 ROUNDED_BOX = 1
@@ -37,7 +38,7 @@ def rounded_box_params(centre_z_m: float, half: np.ndarray, corner_radius_m: flo
     return np.array([centre_z_m, half[0], half[1], half[2], corner_radius_m])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _round_cone(x, y, z, p):
     r1, r2, c1, h, a, b = p[0], p[1], p[2], p[3], p[4], p[5]
     rho = math.hypot(x, y)
@@ -50,7 +51,7 @@ def _round_cone(x, y, z, p):
     return a * rho + b * qz - r1
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _rounded_box(x, y, z, p):
     qx = abs(x - 0.0) - p[1]
     qy = abs(y - 0.0) - p[2]
@@ -61,7 +62,7 @@ def _rounded_box(x, y, z, p):
     return outside + inside - p[4]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _tip(kind, p, scale, x, y, z):
     if scale != 1.0:  # Splayed: stretched laterally, the distance scaled down to a lower bound
         x, y, z = x / scale, y / scale, z / 1.0
@@ -69,14 +70,14 @@ def _tip(kind, p, scale, x, y, z):
     return d * min(1.0, scale) if scale != 1.0 else d
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def tip_sdf(kind, params, scale, points, out):
     """``out[n]`` = the tip's signed distance at body-frame point ``points[n]`` ((n, 3))."""
     for n in range(points.shape[0]):
         out[n] = _tip(kind, params, scale, points[n, 0], points[n, 1], points[n, 2])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def section_sdf(kind, params, scale, z, points, out):
     """``out[n]`` = the tip's signed distance at ``(points[n, 0], points[n, 1], z)`` ((n, 2))."""
     for n in range(points.shape[0]):

@@ -10,8 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
+from solver.compiled.jit import kernel
 from solver.grid import Grid
 
 WALL = 0
@@ -108,7 +108,7 @@ class DomainBoundary:
         return peak * shape
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def set_normal_faces(q, axis, kinds, velocities):
     """The faces of component ``axis`` on its two sides (in place): a wall's normal velocity
     (``velocities[axis, end, axis]``: zero, or a moving wall's), an outflow side's neighbour

@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from solver.compiled.jit import kernel
 
 
 def shifted(q: np.ndarray, off: list[int]) -> np.ndarray:
@@ -47,7 +48,7 @@ def shifted_by_axes(q: np.ndarray, off: list[float]) -> np.ndarray:
     return np.ascontiguousarray(out)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _pass(q, base, frac, out):
     """``out`` = ``q`` (n, m) moved along its first axis by ``base + frac`` rows (the rows from
     outside zero), each row blended in :func:`shifted_by_axes`' arithmetic: a blend with a row
@@ -80,7 +81,7 @@ def _pass(q, base, frac, out):
             o[:] = 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _pass_axis(q, axis, base, frac, out):
     """:func:`_pass` along ``axis`` of the 3D ``q``: over its planes (x), over the (y, z) plane
     of each x (y), over each row of z values seen as rows of one value (z)."""

@@ -8,10 +8,11 @@ are held constant.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from solver.compiled.jit import inline_kernel, kernel
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _clamped(s: float, n: int) -> tuple[int, float]:
     """Lower sample index and fraction of sample coordinate ``s``, clamped to [0, n - 1]."""
     if s <= 0.0:
@@ -22,12 +23,12 @@ def _clamped(s: float, n: int) -> tuple[int, float]:
     return i, s - i
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, float]:
     return _clamped(x / h - offset, n)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _cell(s: float, n: int) -> tuple[np.uint64, float]:
     """Lower sample index (unsigned) and fraction of sample coordinate ``s``, clamped to
     [0, n - 1]; NaN clamps to 0. Branch-free min/max, and an unsigned index spares numba's
@@ -40,13 +41,13 @@ def _cell(s: float, n: int) -> tuple[np.uint64, float]:
     return np.uint64(i), s - i
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _next(i: np.uint64, n: int) -> np.uint64:
     """The upper neighbour of lower index ``i`` (``i`` itself along a one-sample axis)."""
     return i + np.uint64(1) if n > 1 else i
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def lerp(q: np.ndarray, s0: float, s1: float, s2: float) -> float:
     """Trilinear (bilinear when one sample deep) value of ``q`` at sample coordinates
     (s0, s1, s2): index units, clamped to the samples' range. The kernels' inner routine: no
@@ -72,7 +73,7 @@ def lerp(q: np.ndarray, s0: float, s1: float, s2: float) -> float:
     return c0 + fz * (c1 - c0)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def velocity_in_cells(
     u: np.ndarray, v: np.ndarray, w: np.ndarray, dim: int, gx: float, gy: float, gz: float
 ) -> tuple[float, float, float]:
@@ -83,7 +84,7 @@ def velocity_in_cells(
     return vx, vy, vz
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def sample(q: np.ndarray, axis: int, x: float, y: float, z: float, h: float) -> float:
     """Trilinear value of samples ``q`` (component ``axis``, or -1 for cell centres) at (x, y, z).
 
@@ -98,7 +99,7 @@ def sample(q: np.ndarray, axis: int, x: float, y: float, z: float, h: float) -> 
     )
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def range_at(q: np.ndarray, s0: float, s1: float, s2: float) -> tuple[float, float]:
     """Minimum and maximum of the samples that :func:`lerp` blends at (s0, s1, s2)."""
     nx, ny, nz = q.shape
@@ -119,7 +120,7 @@ def range_at(q: np.ndarray, s0: float, s1: float, s2: float) -> tuple[float, flo
     return lo, hi
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def sample_range(
     q: np.ndarray, axis: int, x: float, y: float, z: float, h: float
 ) -> tuple[float, float]:
@@ -133,7 +134,7 @@ def sample_range(
     )
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def velocity_at(
     u: np.ndarray, v: np.ndarray, w: np.ndarray, dim: int, x: float, y: float, z: float, h: float
 ) -> tuple[float, float, float]:
@@ -142,7 +143,7 @@ def velocity_at(
     return velocity_in_cells(u, v, w, dim, x * inv, y * inv, z * inv)
 
 
-@njit(cache=True)
+@kernel
 def sample_many(q: np.ndarray, axis: int, points: np.ndarray, h: float) -> np.ndarray:
     """:func:`sample` at each row of ``points`` (shape (n, 3), relative to the origin)."""
     out = np.empty(points.shape[0])
@@ -151,7 +152,7 @@ def sample_many(q: np.ndarray, axis: int, points: np.ndarray, h: float) -> np.nd
     return out
 
 
-@njit(cache=True)
+@kernel
 def sample_cells_fluid(
     q: np.ndarray, label: np.ndarray, points: np.ndarray, h: float
 ) -> np.ndarray:

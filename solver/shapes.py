@@ -15,7 +15,8 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from numba import njit
+
+from solver.compiled.jit import kernel
 
 
 def _sum_of_squares(points: np.ndarray) -> np.ndarray:
@@ -27,7 +28,7 @@ def _sum_of_squares(points: np.ndarray) -> np.ndarray:
     return total
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _ball_sdf(points, radius, out):
     """:meth:`Ball.sdf` point by point (``points`` (n, d)), in the numpy version's order."""
     n, d = points.shape
@@ -38,7 +39,7 @@ def _ball_sdf(points, radius, out):
         out[m] = np.sqrt(total) - radius
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _box_sdf(points, half, out):
     """:meth:`Box.sdf` point by point (``points`` (n, d)), in the numpy version's order: the
     same maxima and minima (numpy's ``maximum``/``minimum`` keep the first of equal values, as

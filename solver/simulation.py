@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from solver import drag_models
-from solver.advection import ADVECTION_CHOICES, SCHEMES, advect_velocity
+from solver.advection.velocity import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import OUTFLOW, DomainBoundary
-from solver.component_threads import (
+from solver.compiled.layers import layer_count
+from solver.compiled.threads import (
     AUTO_THREADS,
     BesideJob,
     run_beside,
@@ -26,27 +26,27 @@ from solver.component_threads import (
     thread_count,
     usable_cores,
 )
-from solver.cut_forces import cut_surface_force
-from solver.cut_geometry import UNIT, CutGeometry
-from solver.cut_projection import (
+from solver.cutcell.forces import cut_surface_force
+from solver.cutcell.geometry import UNIT, CutGeometry
+from solver.cutcell.projection import (
     cut_flux,
     fill_fresh_pressure,
     pressure_system,
     project_cut,
     subtract_cut_gradient,
 )
-from solver.cut_viscosity import ViscosityWork, assemble_cut, diffuse_cut, mark_probe_samples
-from solver.faces import FLUID, classify_faces, label_cells, solid_adjacent_faces
+from solver.cutcell.viscosity import ViscosityWork, assemble_cut, diffuse_cut, mark_probe_samples
 from solver.field_shift import shifted, shifted_by
+from solver.forces import drag_models
+from solver.forces.momentum_balance import box_momentum, box_surface_flux, probe_box
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
-from solver.layers import layer_count
-from solver.momentum_balance import box_momentum, box_surface_flux, probe_box
-from solver.multigrid import DIFFUSION_SCALES, Multigrid
-from solver.pcg import JacobiPCG, LinearSolve, SolveReport, StencilSystem, solve
+from solver.labels import FLUID
+from solver.linalg.multigrid import DIFFUSION_SCALES, Multigrid
+from solver.linalg.pcg import JacobiPCG, LinearSolve, SolveReport, StencilSystem, solve
+from solver.linalg.warm_start import WarmStart
 from solver.probes import Probe
-from solver.projection import divergence_sum, project, subtract_gradient
-from solver.solver_settings import (
+from solver.settings import (
     BOUNDARY_METHODS,
     MAX_CORNER_RADIUS_CELLS,
     PRECONDITIONERS,
@@ -54,9 +54,10 @@ from solver.solver_settings import (
     VISCOSITY_PRECONDITIONERS,
     SolverSettings,
 )
-from solver.stress import stress_integral
-from solver.viscosity import diffuse
-from solver.warm_start import WarmStart
+from solver.staircase.faces import classify_faces, label_cells, solid_adjacent_faces
+from solver.staircase.projection import divergence_sum, project, subtract_gradient
+from solver.staircase.stress import stress_integral
+from solver.staircase.viscosity import diffuse
 
 __all__ = ["Fluid", "ProbeForce", "Simulation", "SolverSettings", "StepStats"]
 
@@ -175,7 +176,7 @@ class Simulation:
                 f"got {self.settings.corner_radius_cells}"
             )
         self.cut = CutGeometry.empty(grid) if self.settings.boundary_method == "cutcell" else None
-        # auto: on threads or one, whichever has cost less lately (solver.timed_choice): its
+        # auto: on threads or one, whichever has cost less lately (solver.compiled.timed_choice): its
         # many short parallel loops each wait for both threads, and with the other core busy
         # the solve took twice as long as on one thread
         mg_threads = self.settings.threads or min(AUTO_THREADS, usable_cores())
@@ -189,7 +190,7 @@ class Simulation:
         )
         self._viscosity_solves: dict[str, list[LinearSolve]] = {}
         #: Each viscosity component's solve, and the incremental pressure's, with ``warm_start``
-        #: starts from its last solution (:mod:`solver.warm_start`).
+        #: starts from its last solution (:mod:`solver.linalg.warm_start`).
         self._viscosity_warm = [WarmStart() for _ in range(3)]
         self._pressure_warm = WarmStart()
         self._static_label = np.full(grid.cells, FLUID, dtype=np.int32)
@@ -478,7 +479,7 @@ class Simulation:
 
     def pressure_on_threads(self) -> bool:
         """Whether the pressure solve runs its large levels on threads, or (auto) may, by
-        measurement (:attr:`solver.multigrid.Multigrid.parallel`)."""
+        measurement (:attr:`solver.linalg.multigrid.Multigrid.parallel`)."""
         return self._pressure_mg is not None and self._pressure_mg.parallel
 
     def pressure_threads(self) -> int:
@@ -491,7 +492,7 @@ class Simulation:
 
     def component_threads(self) -> int:
         """The threads a step runs the velocity components' advection and viscosity solves on
-        (:mod:`solver.component_threads`)."""
+        (:mod:`solver.compiled.threads`)."""
         return thread_count(self.settings.threads, self.component_samples, self.grid.dim)
 
     def _viscosity_solvers(self, name: str) -> list[LinearSolve]:
@@ -623,7 +624,7 @@ class Simulation:
 
     def _apply_boundaries(self, relax: bool = True) -> None:
         """Boundary velocities on the faces; ``relax``: the once-per-step relaxation of the
-        samples inside cut-cell probes (see :func:`solver.cut_viscosity.mark_probe_samples`).
+        samples inside cut-cell probes (see :func:`solver.cutcell.viscosity.mark_probe_samples`).
 
         With cut cells the faces are classified against the static labels alone, and only
         the probes' windows change their types (the samples inside a probe). While the static

@@ -29,9 +29,7 @@ from PySide6.QtGui import (
 from PySide6.QtWidgets import QWidget
 
 from paintapp.explore.exploration import Exploration, Workspace
-from solver.field_forces import FieldForce
-from solver.sampled_flow import frame_pair
-from solver.shapes import Ball
+from solver import Ball, FieldForce, frame_pair
 
 #: Device workspace edge the data set's extent is mapped onto, m.
 DEVICE_SPAN_M = 0.2

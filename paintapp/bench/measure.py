@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from solver.simulation import Simulation, StepStats
+from solver import Simulation, StepStats
 
 MIB = 1024.0 * 1024.0
 #: The knobs of a benchmark setting that are solver settings (the scene's ``[solver]`` table).

@@ -20,10 +20,7 @@ import numpy as np
 
 from paintapp.bench.measure import SOLVER_KEYS, Measurement, step_cost
 from paintapp.resources import asset_path
-from solver.boundary import DomainBoundary, Side
-from solver.grid import Grid
-from solver.scene import parse_scene
-from solver.simulation import Fluid, Simulation, SolverSettings
+from solver import DomainBoundary, Fluid, Grid, Side, Simulation, SolverSettings, parse_scene
 
 GHIA_U = {  # y: u along the vertical centreline x = 0.5, Re = 100
     0.9766: 0.84123, 0.9688: 0.78871, 0.9609: 0.73722, 0.9531: 0.68717, 0.8516: 0.23151,

@@ -66,7 +66,7 @@ def load_simulation() -> tuple[SimStep, str]:
     """The 3D scene as a step function and its description; a synthetic stand-in if unavailable."""
     try:
         from paintapp.resources import asset_path
-        from solver.scene import load_scene
+        from solver import load_scene
 
         path = asset_path("scenes", "sphere_stir_3d.toml")
         scene = load_scene(path)

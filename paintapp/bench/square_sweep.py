@@ -18,8 +18,7 @@ import numpy as np
 
 from paintapp.bench.noise import DEFAULT_WINDOW_S, relative_noise, smooth
 from paintapp.resources import asset_path
-from solver.scene import Scene, parse_scene
-from solver.simulation import Simulation, StepStats
+from solver import Scene, Simulation, StepStats, parse_scene
 
 SCENE_FILE = "paper_square_sweep.toml"
 PROBE = "square"

@@ -25,10 +25,14 @@ def run(args: argparse.Namespace) -> int:
 
     from paintapp.atomic import atomic_write_text
     from paintapp.output_paths import prepare_outputs
-    from solver.budget import check_memory, slow_step_warning
-    from solver.plan import explain
-    from solver.runner import NonFiniteError, run_scene
-    from solver.scene import load_scene
+    from solver import (
+        NonFiniteError,
+        check_memory,
+        explain,
+        load_scene,
+        run_scene,
+        slow_step_warning,
+    )
 
     scene = load_scene(args.scene)
     if args.steps is not None:

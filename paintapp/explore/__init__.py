@@ -2,4 +2,4 @@
 (:mod:`.flow_files`, VTK through :mod:`.vtk_files`), writing ours (:mod:`.flow_export`),
 scripted probe paths (:mod:`.probe_paths`), and the probe whose force reaches the servo loop
 (:mod:`.exploration`). The force itself is the solver's stress integral over the probe's exact
-surface (:mod:`solver.field_forces`)."""
+surface (:mod:`solver.sampled.forces`)."""

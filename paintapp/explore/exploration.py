@@ -1,8 +1,8 @@
-"""Feeling a stored flow: a rigid probe in a :class:`~solver.sampled_flow.SampledFlow`, its
+"""Feeling a stored flow: a rigid probe in a :class:`~solver.sampled.flow.SampledFlow`, its
 force and torque published for the servo loop, and the scripted form that writes a force trace.
 
 The probe is one-way: it reads the flow and does not change it. Its force is the stress integral
-of the stored fields over its exact surface (:func:`solver.field_forces.surface_force`). In 2D the
+of the stored fields over its exact surface (:func:`solver.sampled.forces.surface_force`). In 2D the
 force is per unit depth; the probe stands for a body ``depth_m`` deep, so the hand feels
 ``depth_m`` times it (N). The device's frame maps onto the data set's by a scale and an offset
 (:class:`Workspace`); a scripted path is already in the data set's frame.
@@ -25,10 +25,7 @@ from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.contact import ContactConfig
 from paintapp.haptics.devices.stroke_player import ReplayDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop
-from solver.field_forces import FieldForce, surface_force
-from solver.sampled_flow import SampledFlow
-from solver.shapes import Ball, Box
-from solver.surface_quadrature import surface_rule
+from solver import Ball, Box, FieldForce, SampledFlow, surface_force, surface_rule
 
 PROBE_SHAPES = ("circle", "box", "sphere")
 #: Scripted runs evaluate the force this often (a simulation-like rate; the servo filters it).

@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from paintapp.atomic import atomic_path
-from solver.faces import FLUID
-from solver.simulation import Simulation
+from solver import FLUID, Simulation
 
 
 @dataclass

@@ -41,7 +41,7 @@ import numpy as np
 
 from common.errors import InputError
 from paintapp.explore.flow_frame import Frame
-from solver.sampled_flow import SampledFlow
+from solver import SampledFlow
 
 #: Most nodes a data set may have (a 512^3 grid); more would not fit a haptic session's memory.
 MAX_NODES = 512**3

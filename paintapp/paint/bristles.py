@@ -26,11 +26,11 @@ import functools
 import math
 
 import numpy as np
-from numba import njit
 
 from brushes import Section
 from brushes.bristles import PROFILE_SAMPLES, Bristles, blur_level
 from paintapp.canvas.regions import Box
+from solver import inline_kernel, kernel
 
 #: Each streak is widened by a Gaussian of this many texels (added in quadrature), so that the
 #: canvas can hold it: the texels sample it without a jagged, beaded line along a stroke that
@@ -55,7 +55,7 @@ def _tables(bristles: Bristles, blur: float) -> tuple[np.ndarray, np.ndarray]:
     return gain, loss
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _lookup(table, u):
     """``table`` (samples over [-1, 1]) interpolated linearly at ``u`` (clipped)."""
     n = table.shape[0]
@@ -65,7 +65,7 @@ def _lookup(table, u):
     return table[i] * (1.0 - frac) + table[i + 1] * frac
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, index):
     """The texels of the (ny, nx) box at (sx0, sy0) whose centres lie within ``sqrt(radius_sq)``
     of the apex (cx, cy) (m), row by row: their centres in the footprint's body frame (turned by
@@ -84,7 +84,7 @@ def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, inde
     return count
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def footprint_across(texel, cx, cy, ax, ay, sdf, sx0, sy0):
     """(lowest, highest) position across the motion (m from the apex (cx, cy), along the unit
     (ax, ay)) of the texel centres inside the footprint, whose signed distance (m) ``sdf`` is
@@ -100,7 +100,7 @@ def footprint_across(texel, cx, cy, ax, ay, sdf, sx0, sy0):
     return a_lo, a_hi
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, a_lo, a_hi, gain_table,
                     loss_table, gain, loss):  # fmt: skip
     """Fill ``gain`` and ``loss`` (ny, nx) over the box whose first texel is (x0, y0): see

@@ -40,7 +40,7 @@ from paintapp.canvas.model import Canvas
 from paintapp.paint.columns import square_texel_m
 from paintapp.paint.fit import GridFit
 from paintapp.paint.paint_model import ForceNeeds
-from solver.plan import Decision
+from solver import Decision
 
 if TYPE_CHECKING:
     from paintapp.haptics.device import DeviceInfo

@@ -50,11 +50,7 @@ from paintapp.paint.paint_model import (
     unwrap_angle,
 )
 from paintapp.paint.paint_scene import PaintScene
-from solver.boundary import DomainBoundary, Side
-from solver.grid import Grid
-from solver.probes import Probe
-from solver.scalar_transport import transport
-from solver.simulation import Fluid, Simulation
+from solver import DomainBoundary, Fluid, Grid, Probe, Side, Simulation, transport
 
 PROBE = "brush"
 SIDES = {name: Side("slip") for name in ("x_min", "x_max", "y_min", "y_max")}

@@ -35,7 +35,7 @@ from paintapp.paint.kernels import (
     sweep_overlap,
 )
 from paintapp.paint.nearest_room import FILL_WIDTH, fill_nearest
-from solver.faces import FLUID, STATIC_SOLID
+from solver import FLUID, STATIC_SOLID
 
 #: How many rings of cells around the tip receive pushed paint before it is kept in the bristles.
 MAX_RING = 8

@@ -27,8 +27,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from paintapp.paint.kernels import fill_columns
-from solver.faces import BOUNDARY, FREE
-from solver.scalar_transport import transport
+from solver import BOUNDARY, FREE, transport
 
 
 def band_weights(depth: int) -> np.ndarray:
@@ -88,7 +87,7 @@ def padded_transport(
     and the ring around it (metres): the ghosts' paint. Returns the sub-steps and the ghosts'
     gains over the step, metres of column per pigment: (P, 2, 2, n) for axis, side, position
     along the side (x sides: n = ny; y sides: n = nx, padded to the larger). ``threads``: as
-    :func:`solver.scalar_transport.transport`'s."""
+    :func:`solver.advection.scalars.transport`'s."""
     n_p, nx, ny, nz = q.shape
     padded = np.zeros((n_p, nx + 2, ny + 2, nz))
     fill_columns(np.ascontiguousarray(ring_columns_m), h, padded)

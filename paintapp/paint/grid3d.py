@@ -18,7 +18,7 @@ limit, so real oil-paint viscosities (10-100 Pa s) need no scaling.
 Each step: fill the cells from the canvas's wet paint (:func:`paintapp.paint.kernels.fill_columns`),
 set the viscosity field, drive the probe to the tip pose and take one solver step, trade paint with
 the brush (:mod:`paintapp.paint.exchange`), transport the paint conservatively with the new
-velocity (:func:`solver.scalar_transport.transport`), and write the change back to the canvas.
+velocity (:func:`solver.advection.scalars.transport`), and write the change back to the canvas.
 The tip is placed at the depth the stylus commands: the part below the canvas plane is cut off by
 the grid's floor (bristles pressed flat), so the footprint grows with pressure.
 """
@@ -48,12 +48,7 @@ from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.texel_velocity import column_face_velocity
 from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
 from paintapp.paint.wet_flow import flow_wet_paint
-from solver.boundary import DomainBoundary, Side
-from solver.component_threads import BesideJob
-from solver.grid import Grid
-from solver.probes import Probe
-from solver.scalar_transport import transport
-from solver.simulation import Fluid, Simulation
+from solver import BesideJob, DomainBoundary, Fluid, Grid, Probe, Side, Simulation, transport
 
 PROBE = "brush"
 LATERAL = ("x_min", "x_max", "y_min", "y_max")

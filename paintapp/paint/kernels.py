@@ -9,14 +9,13 @@ paint volume is ``q * unit`` with ``unit`` the cell volume (3D) or the cell area
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.faces import FREE, STATIC_SOLID
+from solver import FREE, STATIC_SOLID, kernel
 
 FLUID = -1
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fill_columns(column_m, h, out):
     """Fill cells bottom-up from column paint (P, nx, ny) metres into fractions (P, nx, ny, nz).
 
@@ -35,7 +34,7 @@ def fill_columns(column_m, h, out):
                     out[p, i, j, k] = frac * column_m[p, i, j] / total if total > 0.0 else 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def sweep_overlap(q, cap, full, unit, swept):
     """Take the paint that overlaps the tip out of every cell into ``swept`` (P,) volumes.
 
@@ -61,7 +60,7 @@ def sweep_overlap(q, cap, full, unit, swept):
                     q[p, i, j, k] *= keep
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def probe_rings(label, max_ring, dist):
     """Graph distance of fluid cells from the probe (6-neighbours through fluid cells).
 
@@ -109,7 +108,7 @@ def probe_rings(label, max_ring, dist):
                 tail += 1
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _ring_room(q, dist, ring, k_max, cap, weight):
     """Free room (``cap`` less the paint) of ``ring``'s cells up to layer ``k_max``, each
     column's times ``weight[i, j]``."""
@@ -129,7 +128,7 @@ def _ring_room(q, dist, ring, k_max, cap, weight):
     return room
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _fill_ring(q, dist, ring, k_max, cap, weight, amount, share):
     """Add ``share * amount[p] * weight * room_cell`` to every cell of ``ring``."""
     n_p, nx, ny, nz = q.shape
@@ -148,7 +147,7 @@ def _fill_ring(q, dist, ring, k_max, cap, weight, amount, share):
                     q[p, i, j, k] += share * amount[p] * room
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def spread_into_rings(q, dist, first, last, k_max, cap, weight, unit, volume):
     """Place paint volumes ``volume`` (P,) in the free room of rings ``first..last``, nearest first.
 
@@ -177,7 +176,7 @@ def spread_into_rings(q, dist, first, last, k_max, cap, weight, unit, volume):
         volume[p] = amount[p] * unit
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def add_to_ring(q, dist, ring, unit, volume):
     """Add volumes ``volume`` (P,) evenly to the cells of ``ring`` (no capacity limit)."""
     n_p, nx, ny, nz = q.shape
@@ -198,7 +197,7 @@ def add_to_ring(q, dist, ring, unit, volume):
     return True
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def paint_face_axis(u, frac, label, fluid_frac, min_fluid, axis, vel, types):
     """The paint's velocity ``vel`` and face types ``types`` on the faces of ``axis`` (see
     :func:`paintapp.paint.trail.paint_faces`): ``u`` times the open fraction ``frac``, where an

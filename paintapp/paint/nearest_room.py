@@ -23,7 +23,8 @@ what is left (:func:`paintapp.paint.exchange.place_pushed`).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from solver import kernel
 
 #: Width (cells) of the rising edge: the cells between ``L - FILL_WIDTH`` and ``L`` fill in part.
 FILL_WIDTH = 1.0
@@ -42,7 +43,7 @@ def tip_distance(phi_cell: np.ndarray, cell_size_m: float) -> np.ndarray:
     return np.where(d < UNKNOWN_DISTANCE, d, np.nan)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _taken(room, dist, n, level, width):
     """``sum room * clip((level - dist) / width, 0, 1)`` over the first ``n`` candidates."""
     s = 0.0
@@ -51,7 +52,7 @@ def _taken(room, dist, n, level, width):
     return s
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fill_nearest(q, distance, cap, weight, k_max, unit, volume, width):
     """Place paint volumes ``volume`` (P,) m^3 in fields ``q`` (P, nx, ny, nz, cell values in
     units of ``unit`` m^3) by distance from the tip (module docstring): the cells with a known

@@ -42,8 +42,7 @@ from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import SWEEP_MIN_TEXELS, ColumnWindow, cell_texels, square_texel_m
 from paintapp.paint.exchange import ExchangeReport, plough_weights
 from paintapp.paint.paint_scene import PaintScene
-from solver.grid import Grid
-from solver.simulation import SolverSettings
+from solver import Grid, SolverSettings
 
 #: Lift-off: the paint round the tip's last footprint flows back into the hole it leaves, by
 #: sweeps of a conservative neighbour exchange (each column trades this share of the difference

@@ -61,8 +61,7 @@ from pathlib import Path
 from common.errors import InputError
 from common.tables import Table
 from paintapp.resources import asset_path
-from solver.scene import method_keys
-from solver.solver_settings import SolverSettings
+from solver import SolverSettings, method_keys
 
 #: Kernels that trade paint between the grid's columns and the canvas texels
 #: (:func:`paintapp.paint.columns.transfer_weights`).

@@ -25,7 +25,7 @@ from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.stamp import StampModel
-from solver.plan import Decision, explain
+from solver import Decision, explain
 
 MODEL_CLASSES: dict[str, type[PaintModel]] = {
     "grid3d": PaintGrid3D,

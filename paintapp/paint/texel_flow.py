@@ -24,14 +24,13 @@ and no texel goes negative.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.scalar_transport import substeps_for
+from solver import inline_kernel, kernel, substeps_for
 
 #: Hard cap on sub-steps per call (faster paint means something upstream is wrong).
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def outflow_courant(ux, vy):
     """Largest sum of outgoing face speeds (texels/s) over the texels (walls excluded)."""
     ny, nx = vy.shape[0] - 1, ux.shape[1] - 1
@@ -51,7 +50,7 @@ def outflow_courant(ux, vy):
     return worst
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _face_value(q_up, q_a, q_b, courant):
     """Limited upwind face value (module docstring); ``courant`` = |c| in [0, 1]."""
     d = q_b - q_a
@@ -61,7 +60,7 @@ def _face_value(q_up, q_a, q_b, courant):
     return q_a + (1.0 - courant) * s * d / (s + d)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def face_fluxes(q, ux, vy, dt, fx, fy):
     """Signed fluxes (amounts moved in +x, +y) of one sub-step into ``fx`` (P, ny, nx + 1) and
     ``fy`` (P, ny + 1, nx); wall faces get 0."""
@@ -89,7 +88,7 @@ def face_fluxes(q, ux, vy, dt, fx, fy):
                     fy[p, y, x] = c * _face_value(q[p, up, x], q[p, y, x], q[p, y - 1, x], -c)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def limit_outflow(q, fx, fy, scale):
     """Scale each texel's outgoing fluxes so that they sum to at most its paint (in place)."""
     n_p, ny, nx = q.shape
@@ -109,7 +108,7 @@ def limit_outflow(q, fx, fy, scale):
                 fy[p, y, x] = f * (scale[y - 1, x] if f > 0.0 else scale[y, x])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def apply_fluxes(q, fx, fy):
     """``q`` minus the divergence of the fluxes (in place), clamped at 0 against round-off."""
     n_p, ny, nx = q.shape
@@ -121,7 +120,7 @@ def apply_fluxes(q, fx, fy):
                     q[p, y, x] = max(q[p, y, x] + net, 0.0)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def advance(q, ux, vy, dt, substeps):
     """Move fields ``q`` (P, ny, nx) by ``substeps`` equal sub-steps over ``dt`` s (in place)."""
     n_p, ny, nx = q.shape

@@ -19,7 +19,8 @@ fast stroke).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from solver import inline_kernel, kernel
 
 #: Columns one texel's weights reach on one axis at most.
 TAPS = 3
@@ -58,7 +59,7 @@ def axis_taps(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return first.astype(np.int64), taps
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def weight_taps(origin, k, tent, first, taps, sums):
     """(first, taps) as :func:`axis_taps` gives them for the weights
     :func:`paintapp.paint.columns.transfer_weights` builds (columns ``0..sums.size - 1``, texels
@@ -97,12 +98,12 @@ def weight_taps(origin, k, tent, first, taps, sums):
     return fits
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _mobile_share(wet):
     return 1.0 if wet >= FULLY_WET else float(wet)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, textured,
                       out_mobile, out_gain):  # fmt: skip
     """Weighted sums over the texels of box (x0, y0, len(fx), len(fy)) into columns:
@@ -146,7 +147,7 @@ def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, te
                 out_gain[i, j0 + c] += w * row_g[i]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _runs_into(values, x0, share, shared, fx, tx, out):
     """``out[fx[x] + a] += tx[x, a] * v`` for every texel ``x`` of a row (``v``: ``values[x0 + x]``,
     times ``share[x]`` when ``shared``), summed in registers over each run of texels with the
@@ -169,7 +170,7 @@ def _runs_into(values, x0, share, shared, fx, tx, out):
     out[cur + 2] += a2
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _row_values(columns, fy_y, ty_y, out):
     """``out[p, i]`` = the column values ``columns`` (P, ni, nj) summed over j with one texel
     row's weights (``out`` may be longer than ``ni``: the rest is left alone)."""
@@ -185,12 +186,12 @@ def _row_values(columns, fy_y, ty_y, out):
                 out[p, i] += w * columns[p, i, j]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _at_texel(row, p, i0, tx_x):
     return tx_x[0] * row[p, i0] + tx_x[1] * row[p, i0 + 1] + tx_x[2] * row[p, i0 + 2]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def spread_to_texels(paint, wetness, x0, y0, fx, tx, fy, ty, gain, first, rest, gain_w, loss_w,
                      textured, new_mobile, touched, total):  # fmt: skip
     """New mobile paint (P, ny, nx) into ``new_mobile``, the texels that changed into
@@ -232,7 +233,7 @@ def spread_to_texels(paint, wetness, x0, y0, fx, tx, fy, ty, gain, first, rest, 
             total[y, x] = t
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def close_pinholes(new_mobile, touched, total, floor):
     """Fill pinholes in place (see :func:`paintapp.paint.columns.ColumnWindow.write_back`): a
     touched texel off the box's edge whose paint ``total`` (dry + wet, all pigments) is at most
@@ -280,7 +281,7 @@ def close_pinholes(new_mobile, touched, total, floor):
     return len(pins)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fill_thin_holes(new_mobile, touched, total, floor):
     """Fill in place the holes that :func:`close_pinholes` leaves: texels whose paint ``total``
     (dry + wet, all pigments) is at most ``floor`` and that painted texels enclose within the
@@ -361,7 +362,7 @@ def fill_thin_holes(new_mobile, touched, total, floor):
     return filled
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def gather_fringe_films(new_mobile, touched, total, floor):
     """Take the thinnest films off the paint's edge, in place: a touched texel whose paint
     ``total`` (dry + wet, all pigments) is above 0 but under ``floor``, with an unpainted texel
@@ -427,7 +428,7 @@ def gather_fringe_films(new_mobile, touched, total, floor):
         gave += moves
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
     """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
     of the total (0 where the stored float32 paint is 0), as float32; non-finite values become
@@ -468,10 +469,10 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
     return bad
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _sum(a):
     """Sum of the 1D array ``a`` in eight interleaved partial sums: a single running sum waits
-    on each addition's latency (as :func:`solver.pcg.dot`)."""
+    on each addition's latency (as :func:`solver.linalg.pcg.dot`)."""
     size = a.size
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
     end = size - size % 8
@@ -489,7 +490,7 @@ def _sum(a):
     return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _taken_slope(frac, mobile, scale):
     """``(sum min(scale f, 1) m, sum of f m where scale f < 1, largest f where m > 0)`` over
     the flat arrays ``frac`` and ``mobile``, in four interleaved partial sums each."""
@@ -518,7 +519,7 @@ def _taken_slope(frac, mobile, scale):
     return (t0 + t1) + (t2 + t3), (d0 + d1) + (d2 + d3), top
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _bilinear(field, x, y):
     """``field`` (ny, nx) at texel coordinates (x, y) (texel centres at whole numbers), linear in
     between and 0 beyond the edge texels' neighbours."""
@@ -538,7 +539,7 @@ def _bilinear(field, x, y):
     return v
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _path_samples(dx, dy, samples):
     """The sweep's sample points along the path (dx, dy), ``(k + 1/2) / samples`` of the way:
     each one's whole-texel offsets ``(offs_i, offs_j)`` and its four bilinear weights ``w``
@@ -558,7 +559,7 @@ def _path_samples(dx, dy, samples):
     return offs_i, offs_j, w
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
     """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
     the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
@@ -596,7 +597,7 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
     return total
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
     """``out`` (ny, nx) = the largest of ``field``'s values read at the same points as
     :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
@@ -624,7 +625,7 @@ def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
                     )
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _water_fill(frac_s, mobile, scale, lost):
     """``(scale, taken)``: the scale at which the swept fractions take ``lost`` (to 1e-12 of
     it), from ``scale``, and what they take, ``taken = sum min(scale f, 1) m`` (after 31 passes
@@ -648,7 +649,7 @@ def _water_fill(frac_s, mobile, scale, lost):
     return scale, taken
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing):
     """Lay a step's change of mobile paint along the path the tip swept, in place.
 

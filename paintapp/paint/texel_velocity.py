@@ -17,17 +17,16 @@ the texel box's outline are walls (zero).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from scipy.ndimage import convolve1d
 
-from solver.faces import FREE
+from solver import FREE, kernel
 
 #: Weight (cell fraction) of the bottom layer in a face's mean: a face with no paint either side
 #: moves like its bottom layer; any paint outweighs it.
 BOTTOM_WEIGHT = 1e-9
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _face_mean(q, vel, types, axis):
     """Paint-weighted mean over layers of component ``axis`` (0: x, 1: y) on the interior faces
     of the columns; ``q`` (nx, ny, nz) is the cells' paint fraction."""

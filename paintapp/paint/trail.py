@@ -30,7 +30,7 @@ import numpy as np
 
 from paintapp.paint.exchange import CellSpace, place_pushed
 from paintapp.paint.kernels import paint_face_axis, sweep_overlap
-from solver.faces import BOUNDARY, FLUID, STATIC_SOLID
+from solver import BOUNDARY, FLUID, STATIC_SOLID
 
 #: Smallest fluid fraction an upwind cell's paint concentration is taken over (a cell the tip
 #: all but covers would otherwise need ever more transport sub-steps).

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import moderngl
 import numpy as np
-from numba import njit
 
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box, box_of_nonzero
+from solver import inline_kernel, kernel
 
 #: Texels per upload strip (bounds temporary memory).
 STRIP_TEXELS = 1 << 21
@@ -129,7 +129,7 @@ class CanvasTextures:
         self.surface.release()
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def half_bits(bits: np.ndarray, out: np.ndarray) -> None:
     """The IEEE half floats nearest float32 values (ties to even), given and returned as their
     bits (``bits`` uint32, ``out`` uint16, both 1D): what numpy's ``astype(np.float16)`` gives,
@@ -167,7 +167,7 @@ def half_bits(bits: np.ndarray, out: np.ndarray) -> None:
         out[i] = np.uint16(half)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def pack_region(
     paint: np.ndarray,
     reduction: int,
@@ -207,7 +207,7 @@ def pack_region(
                 conc[q // 4, y, x, q % 4] = value
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _block_mean(values: np.ndarray, reduction: int, bx: int, by: int, rows: int, cols: int):
     """The mean of block (``bx``, ``by``) of ``values`` (float64 sum, float32 result); the
     value itself for ``reduction`` 1."""
@@ -222,7 +222,7 @@ def _block_mean(values: np.ndarray, reduction: int, bx: int, by: int, rows: int,
     return np.float32(acc / max((ty1 - ty0) * (tx1 - tx0), 1))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def block_means(values: np.ndarray, reduction: int, x0: int, y0: int, out: np.ndarray) -> None:
     """``out`` (h, w) gets the means of ``values``'s ``reduction`` x ``reduction`` blocks from
     block (``x0``, ``y0``) on (fewer texels at the far edges; the values themselves for 1)."""

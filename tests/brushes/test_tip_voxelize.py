@@ -205,7 +205,7 @@ def test_cut_geometry_in_the_tight_window_equals_the_bounding_spheres(tip):
     """The cut geometry samples a tip only inside its tight world box (from its support
     function) plus a margin: its face fractions, fluid fractions and owners are those sampled
     over the whole bounding sphere, tilted or not."""
-    from solver.cut_geometry import CutGeometry
+    from solver.cutcell.geometry import CutGeometry
     from solver.grid import Grid
     from solver.probes import Probe
 

@@ -7,7 +7,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver.advection import (
+from solver.advection.velocity import (
     LINEAR,
     advect,
     advect_component,

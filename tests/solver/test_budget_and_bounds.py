@@ -8,15 +8,15 @@ import json
 import pytest
 
 from common.errors import InputError
-from solver.budget import (
+from solver.scenes.budget import (
     available_memory_bytes,
     check_memory,
     estimate_bytes,
     estimate_step_s,
     slow_step_warning,
 )
-from solver.runner import run_scene
-from solver.scene import MAX_ITERATIONS, MAX_LINE_POINTS, load_scene, parse_scene
+from solver.scenes.runner import run_scene
+from solver.scenes.scene import MAX_ITERATIONS, MAX_LINE_POINTS, load_scene, parse_scene
 
 
 def scene_dict(cells=(16, 16), **extra):

@@ -9,8 +9,7 @@ import threading
 import numpy as np
 import pytest
 
-from solver import multigrid
-from solver.component_threads import (
+from solver.compiled.threads import (
     AUTO_MIN_SAMPLES,
     AUTO_THREADS,
     MAX_THREADS,
@@ -23,8 +22,9 @@ from solver.component_threads import (
     usable_cores,
 )
 from solver.grid import Grid
-from solver.plan import explain
+from solver.linalg import multigrid
 from solver.probes import Probe
+from solver.scenes.plan import explain
 from solver.shapes import Box
 from solver.simulation import Fluid, Simulation, SolverSettings
 

@@ -13,12 +13,13 @@ import numpy as np
 import pytest
 
 from solver.boundary import INFLOW, OUTFLOW, WALL
-from solver.cut_projection import build_cut_pressure_system, subtract_cut_gradient
-from solver.cut_viscosity import build_cut_system
-from solver.faces import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID, classify_faces
-from solver.layers import layer_count
-from solver.projection import build_pressure_system, subtract_gradient
-from solver.viscosity import build_variable_system, face_viscosity
+from solver.compiled.layers import layer_count
+from solver.cutcell.projection import build_cut_pressure_system, subtract_cut_gradient
+from solver.cutcell.viscosity import build_cut_system
+from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
+from solver.staircase.faces import classify_faces
+from solver.staircase.projection import build_pressure_system, subtract_gradient
+from solver.staircase.viscosity import build_variable_system, face_viscosity
 
 FAR = 1e9
 

@@ -7,7 +7,7 @@ import pytest
 from scipy.signal import savgol_filter
 
 from solver.boundary import DomainBoundary, Side
-from solver.cut_geometry import CutGeometry, fraction_inside_square
+from solver.cutcell.geometry import CutGeometry, fraction_inside_square
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Ball, Box, FilletedBox, with_rounded_corners

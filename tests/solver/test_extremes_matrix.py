@@ -22,13 +22,13 @@ import pytest
 
 import solver.simulation as simulation_module
 from paintapp.cli import main
-from solver.cut_projection import cut_flux
-from solver.faces import FLUID
-from solver.layers import layer_count
-from solver.pcg import SolveReport
-from solver.plan import max_boundary_speed
-from solver.projection import divergence_sum
+from solver.compiled.layers import layer_count
+from solver.cutcell.projection import cut_flux
+from solver.labels import FLUID
+from solver.linalg.pcg import SolveReport
+from solver.scenes.plan import max_boundary_speed
 from solver.simulation import Simulation, SolverSettings
+from solver.staircase.projection import divergence_sum
 
 VISCOSITIES = (0.0, 1e-6, 1.0, 1e3)  # m^2/s
 TIME_STEPS = (1e-4, 1e-2, 1.0)  # s

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from solver import cut_geometry
+from solver.cutcell import geometry as cut_geometry
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Box

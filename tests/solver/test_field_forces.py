@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from solver.field_forces import surface_force
-from solver.sampled_flow import SampledFlow, extend_into
+from solver.sampled.flow import SampledFlow, extend_into
+from solver.sampled.forces import surface_force
+from solver.sampled.quadrature import surface_rule
 from solver.shapes import Ball, Box
-from solver.surface_quadrature import surface_rule
 
 
 def linear_flow(dim: int, gradient: np.ndarray, shear: float, n: int = 21, h: float = 0.05):
@@ -99,7 +99,7 @@ def test_rules_sum_to_the_exact_perimeter_or_area():
 
 
 def test_a_periodic_series_wraps_from_its_last_frame_back_to_the_first():
-    from solver.sampled_flow import frame_pair
+    from solver.sampled.flow import frame_pair
 
     times = np.array([0.0, 0.1, 0.2])
     assert frame_pair(times, 0.25, period_s=0.3) == (2, 0, pytest.approx(0.5))

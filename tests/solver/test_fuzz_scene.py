@@ -25,8 +25,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from common.errors import InputError
-from solver.budget import estimate_bytes, estimate_step_s
-from solver.scene import MAX_CELLS, MAX_ITERATIONS, MAX_LINE_POINTS, MAX_STEPS, load_scene
+from solver.scenes.budget import estimate_bytes, estimate_step_s
+from solver.scenes.scene import MAX_CELLS, MAX_ITERATIONS, MAX_LINE_POINTS, MAX_STEPS, load_scene
 
 SCENE_2D = {
     "version": 1,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from solver.cut_geometry import CutGeometry
+from solver.cutcell.geometry import CutGeometry
 from solver.field_shift import shifted_by, shifted_by_axes
 from solver.grid import Grid
 from solver.probes import Probe

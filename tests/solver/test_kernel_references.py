@@ -11,23 +11,23 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.boundary import INFLOW, OUTFLOW, SLIP, WALL, set_normal_faces
-from solver.cut_geometry import (
+from solver.compiled.layers import layer_count
+from solver.cutcell.geometry import (
     _fill,
     _take_closer,
     lattice_offsets_2d,
     lattice_offsets_3d,
     take_closer_2d,
 )
-from solver.cut_projection import (
+from solver.cutcell.projection import (
     cut_flux,
     fill_fresh_pressure,
     pressure_rhs,
     remove_mean,
     subtract_cut_gradient,
 )
-from solver.layers import layer_count
-from solver.pcg import apply_stencil
-from solver.viscosity import face_viscosity
+from solver.linalg.pcg import apply_stencil
+from solver.staircase.viscosity import face_viscosity
 
 
 def _reference_gradient(q, kinds, wf, axis, active, phi, h):

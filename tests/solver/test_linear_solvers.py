@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from solver.pcg import JacobiPCG, solve, solve_jacobi
-from solver.solver_settings import JACOBI_LIMIT, SolverSettings
+from solver.linalg.pcg import JacobiPCG, solve, solve_jacobi
+from solver.settings import JACOBI_LIMIT, SolverSettings
 from tests.support.stencil_systems import random_system, to_sparse
 
 

@@ -7,7 +7,7 @@ import pytest
 
 from paintapp.cli import main
 from solver.boundary import Side
-from solver.plan import Decision, explain, max_boundary_speed
+from solver.scenes.plan import Decision, explain, max_boundary_speed
 from solver.simulation import SolverSettings
 
 

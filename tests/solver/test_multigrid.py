@@ -11,16 +11,16 @@ import scipy.sparse.linalg as spla
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver import multigrid
 from solver.boundary import OUTFLOW
-from solver.faces import FLUID, STATIC_SOLID
 from solver.grid import Grid
-from solver.multigrid import Multigrid, level_shapes, v_cycle
-from solver.pcg import StencilSystem, solve
+from solver.labels import FLUID, STATIC_SOLID
+from solver.linalg import multigrid
+from solver.linalg.multigrid import Multigrid, level_shapes, v_cycle
+from solver.linalg.pcg import StencilSystem, solve
 from solver.probes import Probe
-from solver.projection import build_pressure_system
 from solver.shapes import Ball, Box
 from solver.simulation import Fluid, Simulation, SolverSettings
+from solver.staircase.projection import build_pressure_system
 from tests.support.stencil_systems import random_system, to_sparse
 
 

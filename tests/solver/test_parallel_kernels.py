@@ -11,7 +11,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from solver.parallel_kernels import (
+from solver.compiled.parallel import (
     SPIN_COUNT,
     available_threads,
     parallel_section,
@@ -51,7 +51,7 @@ def test_a_section_sets_the_threads_within_the_limit_and_restores_them():
 
 
 def _spin_count_in_a_fresh_process(env: dict[str, str]) -> str:
-    code = "import os, solver.parallel_kernels; print(os.environ['GOMP_SPINCOUNT'])"
+    code = "import os, solver.compiled.parallel; print(os.environ['GOMP_SPINCOUNT'])"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                          check=True, timeout=120)  # fmt: skip
     return out.stdout.strip()
@@ -69,7 +69,7 @@ import sys
 import numpy as np
 from numba import njit, prange
 
-from solver.parallel_kernels import NEVER, parallel_section, serial_and_parallel
+from solver.compiled.parallel import NEVER, parallel_section, serial_and_parallel
 
 
 def _fill(a):
@@ -104,7 +104,7 @@ else:
 
 
 def test_a_cached_kernel_that_dispatches_to_parallel_twins_loads_in_a_fresh_process(tmp_path):
-    """The solver's pattern (:func:`solver.multigrid.mgpcg_flat`): a cached kernel whose
+    """The solver's pattern (:func:`solver.linalg.multigrid.mgpcg_flat`): a cached kernel whose
     ``par_cells`` picks, through a small dispatcher, one of two twins; compiled with the argument
     in one process, without it in a second, and loaded from the cache in a third. Before the
     threading layer was started at import, the third process died of a segfault."""

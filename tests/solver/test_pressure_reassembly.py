@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from solver import cut_geometry
-from solver.cut_projection import pressure_system
+from solver.cutcell import geometry as cut_geometry
+from solver.cutcell.projection import pressure_system
 from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Box

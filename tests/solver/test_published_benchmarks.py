@@ -18,8 +18,8 @@ from paintapp.resources import asset_path
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
 from solver.probes import Probe
-from solver.runner import run_scene
-from solver.scene import load_scene
+from solver.scenes.runner import run_scene
+from solver.scenes.scene import load_scene
 from solver.shapes import Ball
 from solver.simulation import Fluid, Simulation, SolverSettings
 

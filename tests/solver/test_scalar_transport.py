@@ -1,15 +1,15 @@
-"""Conservative upwind transport of cell-centred scalars (solver.scalar_transport)."""
+"""Conservative upwind transport of cell-centred scalars (solver.advection.scalars)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from solver.advection.scalars import face_rates, gather_substep, transport, upwind_substep
 from solver.boundary import DomainBoundary, Side
-from solver.faces import BOUNDARY, FREE
 from solver.grid import Grid
+from solver.labels import BOUNDARY, FREE
 from solver.probes import Probe
-from solver.scalar_transport import face_rates, gather_substep, transport, upwind_substep
 from solver.shapes import Ball
 from solver.simulation import Fluid, Simulation
 

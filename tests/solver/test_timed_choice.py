@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from solver.timed_choice import TimedChoice
+from solver.compiled.timed_choice import TimedChoice
 
 
 def _run(choice: TimedChoice, costs: tuple[float, ...], picks: int) -> list[int]:

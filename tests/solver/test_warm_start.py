@@ -9,12 +9,12 @@ import pytest
 
 from solver.boundary import DomainBoundary, Side
 from solver.grid import Grid
-from solver.pcg import SolveReport, StencilSystem
+from solver.linalg.pcg import SolveReport, StencilSystem
+from solver.linalg.warm_start import WarmStart
 from solver.probes import Probe
-from solver.scene import load_scene
+from solver.scenes.scene import load_scene
 from solver.shapes import Ball
 from solver.simulation import Fluid, Simulation, SolverSettings
-from solver.warm_start import WarmStart
 
 
 def test_a_warm_solve_starts_from_the_last_solution_on_the_unknowns_only():

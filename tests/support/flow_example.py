@@ -16,7 +16,7 @@ from pathlib import Path
 
 from paintapp.explore.flow_export import FlowFrames, write_flow_npz
 from paintapp.resources import asset_path
-from solver.scene import parse_scene
+from solver.scenes.scene import parse_scene
 
 #: Flow time before the period is measured (the wake is shedding by then), and frame interval.
 SPIN_UP_S = 6.0

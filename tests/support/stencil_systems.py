@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from solver.pcg import StencilSystem
+from solver.linalg.pcg import StencilSystem
 
 
 def random_system(

@@ -78,7 +78,7 @@ def test_a_folder_as_the_json_output_is_refused_before_the_run(scene_file, tmp_p
 
 
 def test_more_memory_than_available_is_refused(scene_file, monkeypatch, capsys):
-    monkeypatch.setattr("solver.budget.available_memory_bytes", lambda: 10_000)
+    monkeypatch.setattr("solver.scenes.budget.available_memory_bytes", lambda: 10_000)
     assert main(["simulate", str(scene_file)]) == 2
     err = capsys.readouterr().err
     assert "'domain.cells': a 2D 16x16 grid (256 cells) needs about" in err
@@ -86,7 +86,7 @@ def test_more_memory_than_available_is_refused(scene_file, monkeypatch, capsys):
 
 
 def test_a_slow_run_is_announced_before_it_starts(scene_file, monkeypatch, capsys):
-    monkeypatch.setattr("solver.budget.SLOW_STEP_S", 0.0)
+    monkeypatch.setattr("solver.scenes.budget.SLOW_STEP_S", 0.0)
     assert main(["simulate", str(scene_file), "--steps", "1"]) == 0
     assert "per step on a 2-core machine" in capsys.readouterr().err
 

@@ -15,7 +15,7 @@ from paintapp.explore.flow_export import FlowFrames, write_flow_npz, write_flow_
 from paintapp.explore.flow_files import FluidOverrides, load_flow
 from paintapp.resources import asset_path
 from paintapp.session.outputs import read_forces_csv
-from solver.scene import parse_scene
+from solver.scenes.scene import parse_scene
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,8 @@ from common.errors import InputError
 from paintapp.figures import sides
 from paintapp.paint.far_field import band_change, band_weights, padded_transport
 from paintapp.paint.paint_scene import parse_paint_scene
-from solver.faces import BOUNDARY, FREE
-from solver.scalar_transport import transport
+from solver.advection.scalars import transport
+from solver.labels import BOUNDARY, FREE
 
 
 def random_faces(rng: np.random.Generator, nx: int, ny: int, nz: int):

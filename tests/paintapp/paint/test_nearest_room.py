@@ -17,8 +17,8 @@ from paintapp.paint.nearest_room import FILL_WIDTH, LEVEL_TOLERANCE, fill_neares
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.session.comb import period_depths
 from paintapp.session.painting import PaintingSession, paint_inventory
-from solver.cut_geometry import FAR
-from solver.faces import FLUID, STATIC_SOLID
+from solver.cutcell.geometry import FAR
+from solver.labels import FLUID, STATIC_SOLID
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 RED = "cadmium_red"

@@ -15,8 +15,8 @@ from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.paint.trail import MIN_UPWIND_FLUID, lay_trail, paint_faces, vacated_share
 from paintapp.session.comb import period_depths, scan_periods
 from paintapp.session.painting import PaintingSession, paint_inventory
-from solver.faces import FLUID, FREE, STATIC_SOLID
-from solver.scalar_transport import transport
+from solver.advection.scalars import transport
+from solver.labels import FLUID, FREE, STATIC_SOLID
 from tests.support.demo_strokes import StrokeSpec, stroke_samples
 
 RED = "cadmium_red"

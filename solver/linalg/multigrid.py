@@ -2,7 +2,7 @@
 
 After McAdams, Sifakis & Teran, "A parallel multigrid Poisson solver for fluids simulation on
 large grids" (SCA 2010): conjugate gradients preconditioned by one geometric multigrid V-cycle.
-The hierarchy is built from the assembled fine matrix itself (:class:`~solver.pcg.StencilSystem`,
+The hierarchy is built from the assembled fine matrix itself (:class:`~solver.linalg.pcg.StencilSystem`,
 any face weights: the staircase's 0/1, the cut cells' open fractions, outflow ghosts, a
 viscosity solve's mass term), so it respects solid, fluid and outflow cells and every cut-cell
 weight without knowing where they came from:
@@ -22,9 +22,9 @@ Every array of the hierarchy is preallocated once per grid shape and refilled in
 solve: rebuilding it as probes move costs about two passes over the fine grid.
 
 With ``threads`` > 1, a 3D solve runs its levels of at least :data:`PARALLEL_MIN_CELLS` cells on
-numba's threads (:mod:`solver.parallel_kernels`), with the same values, bit for bit; with
+numba's threads (:mod:`solver.compiled.parallel`), with the same values, bit for bit; with
 ``adaptive`` as well, each solve runs them on the threads or on one, whichever has cost less per
-iteration lately (:class:`~solver.timed_choice.TimedChoice`).
+iteration lately (:class:`~solver.compiled.timed_choice.TimedChoice`).
 """
 
 from __future__ import annotations
@@ -32,12 +32,13 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
-from solver.parallel_kernels import NEVER, parallel_section, serial_and_parallel
-from solver.pcg import SolveReport, StencilSystem, apply_stencil, apply_stencil_parallel, dot
-from solver.timed_choice import TimedChoice
-from solver.unsigned import U0, U1, U2
+from solver.compiled.jit import kernel
+from solver.compiled.parallel import NEVER, parallel_section, serial_and_parallel
+from solver.compiled.timed_choice import TimedChoice
+from solver.compiled.unsigned import U0, U1, U2
+from solver.linalg.pcg import SolveReport, StencilSystem, apply_stencil, apply_stencil_parallel, dot
 
 PRE_SMOOTH = 2
 COARSEST_SWEEPS = 16
@@ -61,7 +62,7 @@ def level_shapes(shape: tuple[int, int, int]) -> list[tuple[int, int, int]]:
     return shapes  # type: ignore[return-value]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l, scale_m):
     """Fill level ``level + 1`` of the packed hierarchy from level ``level``, and the inverse
     diagonal ``inv`` of level ``level``.
@@ -174,9 +175,9 @@ def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l,
                         offz[c - 1] = 0.0
 
 
-# The kernels below index with unsigned integers (solver.unsigned). The neighbour sum is written
+# The kernels below index with unsigned integers (solver.compiled.unsigned). The neighbour sum is written
 # out in each kernel: as an inlined helper it ran 12x slower. Each is compiled serial and parallel
-# (solver.parallel_kernels): their outer loop runs over the planes of a level, or over the
+# (solver.compiled.parallel): their outer loop runs over the planes of a level, or over the
 # coarse planes, whose iterations write disjoint entries, so both give the same bits; the small
 # dispatchers after them pick one per level. The outer loop runs along the first axis of the
 # kernels' order (a 3D grid's x; a 2D grid's single plane, which runs on one thread).
@@ -342,7 +343,7 @@ _cg_step_s, _cg_step_p = serial_and_parallel(_cg_step)
 _direction_s, _direction_p = serial_and_parallel(_cg_direction)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _sweep(par, inv, offx, offy, offz, o, shape, b, x, colour):
     if par:
         _sweep_p(inv, offx, offy, offz, o, shape, b, x, colour)
@@ -350,7 +351,7 @@ def _sweep(par, inv, offx, offy, offz, o, shape, b, x, colour):
         _sweep_s(inv, offx, offy, offz, o, shape, b, x, colour)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _residual_restrict(par, diag, offx, offy, offz, active, shapes, starts, level, b, x, colour):
     if par:
         _restrict_p(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour)
@@ -358,7 +359,7 @@ def _residual_restrict(par, diag, offx, offy, offz, active, shapes, starts, leve
         _restrict_s(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _prolong_add(par, shapes, starts, level, x):
     if par:
         _prolong_p(shapes, starts, level, x)
@@ -366,7 +367,7 @@ def _prolong_add(par, shapes, starts, level, x):
         _prolong_s(shapes, starts, level, x)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _scale(par, src, scale, dst, lo, hi):
     if par:
         _scale_p(src, scale, dst, lo, hi)
@@ -374,7 +375,7 @@ def _scale(par, src, scale, dst, lo, hi):
         _scale_s(src, scale, dst, lo, hi)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par_cells=NEVER):
     """z = M^{-1} r, one symmetric V-cycle from a zero guess (``b``, ``x``: packed scratch;
     ``PRE_SMOOTH`` and ``COARSEST_SWEEPS`` are at least 1); levels of at least ``par_cells``
@@ -417,7 +418,7 @@ def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par
         _masked_s(x, active, z, size0)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales):
     """Fill every coarse level (and every level's inverse diagonal) from the finest."""
     levels = shapes.shape[0]
@@ -428,7 +429,7 @@ def build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales):
             inv[n] = 1.0 / diag[n] if active[n] and diag[n] > 0.0 else 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _stencil(par, diag, offx, offy, offz, active, strides, x, out):
     if par:
         apply_stencil_parallel(diag, offx, offy, offz, active, strides, x, out)
@@ -436,7 +437,7 @@ def _stencil(par, diag, offx, offy, offz, active, strides, x, out):
         apply_stencil(diag, offx, offy, offz, active, strides, x, out)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol, max_iter,
                work, par_cells=NEVER):  # fmt: skip
     """CG preconditioned by :func:`v_cycle` on the finest level of a built hierarchy (its matrix
@@ -586,7 +587,7 @@ class Multigrid:
     def solve(
         self, system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
     ) -> SolveReport:
-        """Solve ``system`` x = ``b`` in place in ``x`` (warm start), as :func:`solver.pcg.solve`;
+        """Solve ``system`` x = ``b`` in place in ``x`` (warm start), as :func:`solver.linalg.pcg.solve`;
         active entries with a zero row are left as they are and out of the residual."""
         self.load(system)
         return self.solve_loaded(b, x, tol, max_iter)

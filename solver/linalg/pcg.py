@@ -13,9 +13,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
-from solver.parallel_kernels import serial_and_parallel
+from solver.compiled.jit import kernel
+from solver.compiled.parallel import serial_and_parallel
 
 MIC_TAU = 0.97
 MIC_SIGMA = 0.25
@@ -31,7 +32,7 @@ class SolveReport:
     converged: bool
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def mic0(diag, offx, offy, offz, active, strides, precon):
     """Fill ``precon`` with the MIC(0) factor's inverse diagonal (1/sqrt(e)); flat arrays."""
     sx, sy, sz = strides
@@ -57,7 +58,7 @@ def mic0(diag, offx, offy, offz, active, strides, precon):
         precon[n] = 1.0 / np.sqrt(e) if e > 0.0 else 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def apply_precon(offx, offy, offz, active, strides, precon, r, q, z):
     """z = (L L^T)^{-1} r with the MIC(0) factor; ``q`` is scratch; flat arrays."""
     sx, sy, sz = strides
@@ -144,7 +145,7 @@ def _apply_stencil(diag, offx, offy, offz, active, strides, x, out):
 apply_stencil, apply_stencil_parallel = serial_and_parallel(_apply_stencil)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def dot(a, b):
     """Sum of ``a * b`` over the first ``b.size`` entries, in eight interleaved partial sums: a
     single running sum waits on each addition's latency (measured: a 4-8x slower pass)."""
@@ -165,7 +166,7 @@ def dot(a, b):
     return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def scaled_dot(w, a):
     """:func:`dot` of ``w * a`` with ``a`` (the products rounded as that of a stored ``w * a``
     would be), in its eight interleaved partial sums."""
@@ -186,7 +187,7 @@ def scaled_dot(w, a):
     return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter):
     """PCG on flat arrays; see :func:`pcg`. Entries of ``b`` off ``active`` must be 0."""
     size = b.size
@@ -233,7 +234,7 @@ def pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter):
     return it, rnorm / bnorm
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def jacobi_pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter, work):
     """CG preconditioned by the diagonal (flat arrays; see :func:`pcg`): no sequential sweep,
     so every pass streams; the cheapest solve of a strongly diagonally dominant system (an
@@ -282,7 +283,7 @@ def jacobi_pcg_flat(diag, offx, offy, offz, active, strides, b, x, tol, max_iter
     return it, rnorm / bnorm
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
     """Solve A x = b in place (x holds the warm start; 3D arrays, C order). Returns
     (iterations, relative residual ``||b - A x|| / ||b||``), stopping at ``tol``.
@@ -384,4 +385,4 @@ class StencilSystem:
 LinearSolve = Callable[[StencilSystem, np.ndarray, np.ndarray, float, int], SolveReport]
 """A solver for a :class:`StencilSystem`: ``(system, b, x, tol, max_iter) -> SolveReport``,
 solving in place in ``x`` (its value is the warm start); :func:`solve` (MIC(0)-PCG) or
-:meth:`solver.multigrid.Multigrid.solve`."""
+:meth:`solver.linalg.multigrid.Multigrid.solve`."""

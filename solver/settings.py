@@ -51,12 +51,12 @@ class SolverSettings:
 
     ``threads``: the velocity components' advection and viscosity solves on this many threads
     at once (the same values); 1 one after the other; 0 (the default) two where the cores and
-    the grid's size make it pay (:mod:`solver.component_threads`). A 3D pressure solve of
+    the grid's size make it pay (:mod:`solver.compiled.threads`). A 3D pressure solve of
     32768+ cells runs its large levels on as many (N >= 2), or under 0 on two or one, whichever
-    has cost less lately (:mod:`solver.timed_choice`); the same values either way.
+    has cost less lately (:mod:`solver.compiled.timed_choice`); the same values either way.
 
     ``warm_start``: each viscosity component's solve and the incremental pressure's start from
-    the last step's solutions, moved with the grid (:mod:`solver.warm_start`): for a grid that
+    the last step's solutions, moved with the grid (:mod:`solver.linalg.warm_start`): for a grid that
     rides with its probe, as the painting grid does (the paint scenes' default); off by default,
     where a probe crosses a fixed grid and the advected velocity is the better start."""
 

@@ -9,14 +9,14 @@ side is a zero-pressure ghost cell. Faces between two fluid cells are then corre
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from solver.boundary import OUTFLOW
-from solver.faces import FLUID, FREE
-from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.compiled.jit import kernel
+from solver.labels import FLUID, FREE
+from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def divergence_sum(u, v, w, label, dim, out):
     """Net outward flux per cell, ``sum_faces n . u`` (m/s; divide by h for the divergence)."""
     nx, ny, nz = label.shape
@@ -32,7 +32,7 @@ def divergence_sum(u, v, w, label, dim, out):
                 out[i, j, k] = d
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def build_pressure_system(label, dim, kinds, diag, offx, offy, offz, active):
     """Assemble the Poisson matrix over fluid cells."""
     nx, ny, nz = label.shape
@@ -71,7 +71,7 @@ def build_pressure_system(label, dim, kinds, diag, offx, offy, offz, active):
                 diag[i, j, k] = d
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def subtract_gradient(q, face_type, axis, phi, h):
     """Correct the free faces of component ``axis`` by ``-(phi_hi - phi_lo) / h``."""
     nx, ny, nz = q.shape

@@ -17,15 +17,13 @@ import numpy as np
 
 from common.errors import InputError
 from common.tables import Table
-from solver.advection import ADVECTION_CHOICES
+from solver.advection.velocity import ADVECTION_CHOICES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
-from solver.component_threads import MAX_THREADS
-from solver.drag_models import MODELS
+from solver.compiled.threads import MAX_THREADS
+from solver.forces.drag_models import MODELS
 from solver.grid import Grid
 from solver.probes import PATH_INTERPOLATIONS, Probe
-from solver.shapes import Ball, Box, Shape
-from solver.simulation import Fluid, Simulation, SolverSettings
-from solver.solver_settings import (
+from solver.settings import (
     BOUNDARY_METHODS,
     MAX_CORNER_RADIUS_CELLS,
     PRECONDITIONERS,
@@ -33,6 +31,8 @@ from solver.solver_settings import (
     VISCOSITY_PRECONDITIONERS,
     VISCOSITY_TOLERANCE,
 )
+from solver.shapes import Ball, Box, Shape
+from solver.simulation import Fluid, Simulation, SolverSettings
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000

@@ -39,10 +39,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.layers import layer_count
 from solver.grid import Grid
-from solver.layers import layer_count
 from solver.probes import Probe
 from solver.shapes import Shape, with_rounded_corners
 
@@ -52,7 +52,7 @@ UNIT.flags.writeable = False
 MIN_FRACTION = 0.1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def fraction_inside_segment(a, b):
     """Fraction of a segment inside (SDF < 0) for a linear SDF with end values ``a``, ``b``."""
     if a < 0.0 and b < 0.0:
@@ -64,7 +64,7 @@ def fraction_inside_segment(a, b):
     return 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _corner(c0, c1, c2, c3, i):
     """Corner ``i % 4`` of a square with corners ``c0..c3`` in cyclic order."""
     i = i % 4
@@ -77,7 +77,7 @@ def _corner(c0, c1, c2, c3, i):
     return c3
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fraction_inside_square(c0, c1, c2, c3):
     """Fraction of a square inside, corners ``c0..c3`` in cyclic order (Batty's rule). The
     corners are read cyclically from a start corner ``o`` chosen per case (no arrays: this runs
@@ -120,15 +120,15 @@ def fraction_inside_square(c0, c1, c2, c3):
     return a
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner, layers):
     """Open fraction and solid owner of the faces of component ``axis`` in the window
     ``lo <= (i, j, k) < hi`` (face indices): 2D, the fluid share of each face's staggered control
     volume, whose corners are the other component's face centres ``phi_other`` (on the domain's
     sides the half inside it); 3D, the open share of the face from the node SDF ``phi_node``.
-    ``layers``: as :func:`solver.layers.layer_count` gives it for the grid (on a 2D grid the
+    ``layers``: as :func:`solver.compiled.layers.layer_count` gives it for the grid (on a 2D grid the
     window holds the one layer of the x and y faces)."""
-    k0 = 0 if layers is None else lo[2]  # constants on a 2D grid (see solver.layers)
+    k0 = 0 if layers is None else lo[2]  # constants on a 2D grid (see solver.compiled.layers)
     k1 = 1 if layers is None else hi[2]
     for i in range(lo[0], hi[0]):
         for j in range(lo[1], hi[1]):
@@ -175,7 +175,7 @@ def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner,
                 owner[i, j, k] = o if f < 1.0 else -1
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
     """Fluid volume fraction of the cells in the window ``lo <= (i, j, k) < hi``."""
     for i in range(lo[0], hi[0]):
@@ -192,7 +192,7 @@ def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
                     out[i, j, k] = s / 6.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _fill(a, lo, hi, value):
     """``a[lo:hi] = value`` over a 3D window (``lo >= 0``), clipped to ``a``'s shape as a slice
     is. A window across the whole last axis (every one on a 2D grid) fills a contiguous run per
@@ -212,7 +212,7 @@ def _fill(a, lo, hi, value):
                 a[i, j, k] = value
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def reset_window(lo, hi, dim, phi_node, owner_node, fluid_frac, phi_cell, owner_cell, phi_face,
                  open_frac, owner_face, owner_sample):  # fmt: skip
     """Clear a probe's window of cells ``lo..hi`` back to no probe at all: its nodes (one more
@@ -343,7 +343,7 @@ class CutGeometry:
             fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _shift_kernel(a, oi, oj, ok, fill):
     """``a[i, j, k] = a[i + oi, j + oj, k + ok]`` in place, ``fill`` where that is outside ``a``.
     Each axis runs in the direction that reads every source before it is overwritten."""
@@ -415,14 +415,14 @@ def _lattice_sdf(
     return [node, *faces, cell]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _lattice_point(origin, lo, h, step, a, m):
     """Coordinate ``a`` of point ``m`` (every ``step``-th) of the half-cell lattice from cell
     ``lo``: ``origin[a] + (lo[a] + m step / 2) h``."""
     return origin[a] + (lo[a] + 0.5 * (step * m)) * h
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def lattice_offsets_2d(origin, lo, h, step, centre, out):
     """``out[i, j]`` = point (i, j) of every ``step``-th point of the half-cell lattice from cell
     ``lo`` less ``centre``: the probe-relative points, as numpy's grid of the lattice's axes less
@@ -434,7 +434,7 @@ def lattice_offsets_2d(origin, lo, h, step, centre, out):
             out[i, j, 1] = _lattice_point(origin, lo, h, step, 1, j) - centre[1]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def lattice_offsets_3d(origin, lo, h, step, centre, out):
     """:func:`lattice_offsets_2d` in 3D."""
     for i in range(out.shape[0]):
@@ -447,7 +447,7 @@ def lattice_offsets_3d(origin, lo, h, step, centre, out):
                 out[i, j, k, 2] = _lattice_point(origin, lo, h, step, 2, k) - centre[2]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def node_means(node, face_x, face_y, face_z, cell):
     """Each face's mean of its four corner nodes, and each cell's of its eight (``node`` (nx, ny,
     nz); a face of axis ``a`` lies across the other two axes). The sums run in a fixed order: a
@@ -509,7 +509,7 @@ def _sample_sdf(
         _take_closer(values, phi, owner, lo, index, owner is geo.owner_cell)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _closer(phi, owner, i, j, value, index, inside_only):
     """One sample of :func:`_take_closer` (2D: ``k`` = 0)."""
     if value < phi[i, j, 0]:
@@ -518,7 +518,7 @@ def _closer(phi, owner, i, j, value, index, inside_only):
             owner[i, j, 0] = index
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def take_closer_2d(sdf, lo, index, phi_node, owner_node, phi_fx, owner_fx, phi_fy, owner_fy,
                    phi_cell, owner_cell):  # fmt: skip
     """:func:`_take_closer` for each sub-lattice of a 2D half-cell lattice's SDF ``sdf`` (from
@@ -540,7 +540,7 @@ def take_closer_2d(sdf, lo, index, phi_node, owner_node, phi_fx, owner_fx, phi_f
                 _closer(phi_cell, owner_cell, gi, gj, value, index, True)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _take_closer(values, phi, owner, lo, index, inside_only):
     """Where ``values`` (a window at ``lo`` of ``phi``) are below ``phi``, take them, and make
     ``index`` the owner there (only where also ``<= 0`` with ``inside_only``)."""

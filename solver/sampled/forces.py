@@ -1,8 +1,8 @@
 """Force and torque that a stored flow exerts on a rigid probe placed in it (one-way: the probe
 does not change the flow).
 
-The stress ``sigma = -p I + mu (G + G^T)`` of a :class:`~solver.sampled_flow.SampledFlow` is
-integrated over the probe's exact surface with a :class:`~solver.surface_quadrature.SurfaceRule`:
+The stress ``sigma = -p I + mu (G + G^T)`` of a :class:`~solver.sampled.flow.SampledFlow` is
+integrated over the probe's exact surface with a :class:`~solver.sampled.quadrature.SurfaceRule`:
 ``F = sum_k w_k sigma(x_k) n_k``, ``tau = sum_k w_k (x_k - c) x sigma(x_k) n_k`` about the probe's
 centre ``c`` -- the paper's eqs. 9-18 on a smooth surface instead of a staircase. In 2D the force
 is per unit depth (N/m) and the torque a scalar (N m/m); in 3D N and N m. By the divergence
@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from solver.sampled_flow import SampledFlow
-from solver.surface_quadrature import SurfaceRule
+from solver.sampled.flow import SampledFlow
+from solver.sampled.quadrature import SurfaceRule
 
 
 @dataclass(frozen=True)

@@ -19,14 +19,15 @@ friction of the no-slip surface beneath it.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from solver.boundary import INFLOW, WALL
-from solver.faces import FREE, INTERIOR, rigid_velocity
-from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.compiled.jit import kernel
+from solver.labels import FREE, INTERIOR
+from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.staircase.faces import rigid_velocity
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     """Component ``axis`` of the solid's velocity on the surface between face (i, j, k) and its
     solid neighbour (ii, jj, kk) across axis ``b`` (direction ``s``)."""
@@ -45,7 +46,7 @@ def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     return rigid_velocity(rigid[0], rigid[1], rigid[2], owner, x, y, z, axis)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def face_viscosity(mu_cell, axis, out):
     """Viscosity at the faces normal to ``axis``: mean of the two cells (edge faces: one cell).
     A 2D grid's single layer is no innermost loop (5.5-7.4 -> 1.0-2.9 us at 64²)."""
@@ -76,7 +77,7 @@ def face_viscosity(mu_cell, axis, out):
                     out[i, j, k] = 0.5 * (mu_cell[i, j, lo] + mu_cell[i, j, hi])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def build_variable_system(
     q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, sys_out,
     rhs,

@@ -16,7 +16,8 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
-from solver.component_threads import run_components, run_shared
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.threads import run_components, run_shared
 from solver.interp import lerp, range_at, velocity_in_cells
 
 LINEAR = 0
@@ -34,7 +35,7 @@ SHARED_SLABS = 4
 FUSED = {"contract"}
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _trace(u, v, w, dim, gx, gy, gz, c):
     """Departure point (cell units) of the point (gx, gy, gz) over a step of ``c = dt / h``."""
     ax, ay, az = velocity_in_cells(u, v, w, dim, gx, gy, gz)
@@ -83,13 +84,13 @@ def advect_component(
                     hi[i, j, k] = b
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _half(a: float, b: float) -> float:
     """``lerp``'s blend at fraction 0.5, in its operation order."""
     return a + 0.5 * (b - a)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _unclamped(axis: int, along: int, cells: int) -> tuple[int, int, float]:
     """For face samples of component ``axis``, along grid axis ``along`` of ``cells`` cells: the
     indices ``[lo, hi)`` whose first trace stage clamps no interpolation fraction, and the
@@ -99,7 +100,7 @@ def _unclamped(axis: int, along: int, cells: int) -> tuple[int, int, float]:
     return 0, cells - 1, 0.5
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _face_velocity(u, v, w, axis, i, j, k):
     """Velocity (cell units per unit time) at face sample ``(i, j, k)`` of component ``axis``
     of a 3D grid, a sample away from the walls (as :func:`advect_face_3d` picks them), as
@@ -200,7 +201,7 @@ def advect_face_2d(
             out[i, j, 0] = lerp(q, gx - c * bx - ox, gy - c * by - oy, 0.0)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def maccormack_correct(
     q: np.ndarray, fwd: np.ndarray, back: np.ndarray, lo: np.ndarray, hi: np.ndarray
 ) -> None:
@@ -250,14 +251,14 @@ def advect_velocity(
     lead: Callable[[], object] | None = None,
 ) -> list[np.ndarray]:
     """The ``dim`` velocity components, each advected by ``velocity`` over ``dt``, on
-    ``threads`` threads (:mod:`solver.component_threads`): under the linear scheme each
+    ``threads`` threads (:mod:`solver.compiled.threads`): under the linear scheme each
     component is cut into ``threads`` slabs of rows, so two threads share three components
     evenly; otherwise whole components. The same values as :func:`advect`, one by one.
 
     ``lead``: other work that reads and writes nothing the advection does (a step's geometry),
     run first on a pool thread while this one advects; the components, cut finer
     (:data:`SHARED_SLABS` slabs each under the linear scheme), are then taken by whichever
-    thread is free (:func:`~solver.component_threads.run_shared`). With one thread, ``lead``
+    thread is free (:func:`~solver.compiled.threads.run_shared`). With one thread, ``lead``
     runs first."""
     linear = scheme == LINEAR and threads > 1
     parts = (SHARED_SLABS if lead is not None else threads) if linear else 1

@@ -25,17 +25,17 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from solver.component_threads import run_components
-from solver.faces import FREE
-from solver.unsigned import U1
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.threads import run_components
+from solver.compiled.unsigned import U1
+from solver.labels import FREE
 
 #: Hard cap on sub-steps per call (a velocity this violent means something upstream is wrong).
 MAX_SUBSTEPS = 1000
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def outflow_fraction(u, v, w, tu, tv, tw, dim, rate):
     """Largest ``rate * sum of outgoing face speeds`` over the cells (``rate = dt / h``).
 
@@ -67,7 +67,7 @@ def outflow_fraction(u, v, w, tu, tv, tw, dim, rate):
     return worst
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def upwind_substep(q, u, v, w, tu, tv, tw, dim, rate, out):
     """One explicit upwind update of fields ``q`` (n, nx, ny, nz) into ``out`` (same shape).
 
@@ -107,7 +107,7 @@ def upwind_substep(q, u, v, w, tu, tv, tw, dim, rate, out):
                         op[ui, uj, uk] += f
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def face_rates(u, v, w, tu, tv, tw, dim, rate, ru, rv, rw):
     """``rate`` times each face velocity where the face carries flux (an interior ``FREE``
     face), else 0, into ``ru``, ``rv``, ``rw`` (the components' shapes; ``rw`` is left alone in
@@ -125,14 +125,14 @@ def face_rates(u, v, w, tu, tv, tw, dim, rate, ru, rv, rw):
                     out[i, j, k] = rate * q[i, j, k] if flows else 0.0
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _flux(r, lo, hi):
     """The upwind flux through a face of rate ``r`` (``rate * velocity``) from the cell below,
     holding ``lo``, to the one above, holding ``hi``: :func:`upwind_substep`'s expression."""
     return max(r, 0.0) * lo + min(r, 0.0) * hi
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def gather_substep(q, ru, rv, rw, dim, out):
     """:func:`upwind_substep` with the face rates of :func:`face_rates`, each cell summing its
     own faces: the same values, bit for bit. A cell's change in :func:`upwind_substep` comes in
@@ -234,14 +234,14 @@ def transport(
     Args:
         fields: float64 array of ``n`` scalars per cell (any units; each is conserved).
         comps: the three velocity component arrays of the MAC grid, m/s (w unused in 2D).
-        face_types: the face types of each component (:mod:`solver.faces`); only ``FREE``
+        face_types: the face types of each component (:mod:`solver.staircase.faces`); only ``FREE``
             interior faces carry flux.
         dim: 2 or 3.
         h: cell size, metres.
         dt: time step, seconds (>= 0).
         threads: with 2 or more and at least two fields, the fields are cut into that many
             groups (at most one per field), each taken through every sub-step on a thread of
-            its own (:mod:`solver.component_threads`): the fields are independent, so the
+            its own (:mod:`solver.compiled.threads`): the fields are independent, so the
             same values, bit for bit.
 
     Returns:

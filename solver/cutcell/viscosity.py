@@ -1,6 +1,6 @@
 """Implicit viscosity with no-slip at the probes' true surfaces (cut-cell geometry).
 
-The same backward Euler system as :mod:`solver.viscosity` (per component, the per-cell dynamic
+The same backward Euler system as :mod:`solver.staircase.viscosity` (per component, the per-cell dynamic
 viscosity field, the optional linear drag, symmetric and positive definite), except that a velocity
 sample whose neighbour along an axis lies inside a probe is coupled to the probe's surface
 itself: the surface sits at the fraction ``theta = phi_f / (phi_f - phi_nb)`` of the way (from the
@@ -25,19 +25,20 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from solver.boundary import INFLOW, WALL
-from solver.faces import BOUNDARY, FREE, INTERIOR, rigid_velocity
-from solver.layers import layer_count
-from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
-from solver.viscosity import _surface_velocity, face_viscosity
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.layers import layer_count
+from solver.labels import BOUNDARY, FREE, INTERIOR
+from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.staircase.faces import rigid_velocity
+from solver.staircase.viscosity import _surface_velocity, face_viscosity
 
 MIN_THETA = 0.25
 INSIDE_RELAX_CELLS = 0.5
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def mark_probe_samples(face_type, q, phi, owner, open_frac, axis, lo, hi, rigid, h, relax):
     """Samples of component ``axis`` inside a probe (``phi <= 0``) in the window are left out of
     the viscosity solve (``BOUNDARY``); those of fully closed faces take the owning probe's rigid
@@ -66,7 +67,7 @@ def mark_probe_samples(face_type, q, phi, owner, open_frac, axis, lo, hi, rigid,
                 q[i, j, k] = us + (q[i, j, k] - us) * keep
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _cut_coupling(phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     """(1 / theta, wall velocity) for the sample (i, j, k) whose neighbour (ii, jj, kk) along
     ``b`` (direction ``s``) lies inside a probe."""
@@ -80,7 +81,7 @@ def _cut_coupling(phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     return 1.0 / theta, wall
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _side(wall, own, d, r, velocity):
     """A neighbour beyond the domain's side: a wall or inflow side's ghost adds ``2 own`` to the
     diagonal and ``2 own`` times its velocity to the right-hand side."""
@@ -90,7 +91,7 @@ def _side(wall, own, d, r, velocity):
     return d, r
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag, offx,
                    offy, offz, active, rhs):  # fmt: skip
     """The short path of :func:`build_cut_system` on a 3D grid, a row at a time along z: each
@@ -190,7 +191,7 @@ def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
                 k += step
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag, offx,
                    offy, offz, active, rhs):  # fmt: skip
     """:func:`_short_rows_3d` on one layer: the rows run along y."""
@@ -265,14 +266,14 @@ def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
             j += step
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def build_cut_system(
     q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
     owner, sys_out, rhs, layers, short=True,
 ):  # fmt: skip
-    """Assemble the diffusion system of component ``axis`` (see :mod:`solver.viscosity`), with
+    """Assemble the diffusion system of component ``axis`` (see :mod:`solver.staircase.viscosity`), with
     ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples;
-    ``layers`` as :func:`solver.layers.layer_count` gives it.
+    ``layers`` as :func:`solver.compiled.layers.layer_count` gives it.
 
     An unknown whose neighbours within the domain are all unknowns (most of them) takes a short
     path (:func:`_short_rows_3d`, :func:`_short_rows_2d`), with the same sums in the same order
@@ -283,7 +284,7 @@ def build_cut_system(
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
     three = dim == 3
-    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.layers)
+    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.compiled.layers)
     if short:
         if three:
             _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag,

@@ -18,21 +18,22 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numba import njit
 
 from solver.boundary import OUTFLOW
-from solver.faces import FLUID, rigid_velocity
-from solver.layers import layer_count
-from solver.pcg import LinearSolve, SolveReport, StencilSystem, solve
-from solver.unsigned import U0, U1
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.layers import layer_count
+from solver.compiled.unsigned import U0, U1
+from solver.labels import FLUID
+from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
+from solver.staircase.faces import rigid_velocity
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _neighbour(i, j, k, b, s):
     return i + s * (b == 0), j + s * (b == 1), k + s * (b == 2)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _face_of(i, j, k, b, s):
     """Index of the face of cell (i, j, k) across axis ``b`` on side ``s`` (-1 low, +1 high)."""
     if s > 0:
@@ -40,7 +41,7 @@ def _face_of(i, j, k, b, s):
     return i, j, k
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
     """``W`` of the face of cell (i, j, k) across (b, s), and whether it leads to an outflow
     ghost (zero pressure) rather than a neighbouring cell."""
@@ -56,7 +57,7 @@ def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
     return wf[fi, fj, fk], False
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active,
                               lo, hi, layers):  # fmt: skip
     """Assemble the face-weighted Poisson matrix (the one place it is built; a preconditioner
@@ -69,13 +70,15 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
         wx, wy, wz: open face fractions of the probes.
         diag, offx, offy, offz, active: outputs, cells' shape.
         lo, hi: (3,) int64, the box of cells to assemble.
-        layers: as :func:`solver.layers.layer_count` gives it.
+        layers: as :func:`solver.compiled.layers.layer_count` gives it.
     """
     nx, ny, nz = static.shape
     shape = (nx, ny, nz)
     ws = (wx, wy, wz)
     three = dim == 3
-    k0 = 0 if layers is None else max(lo[2], 0)  # constants on a 2D grid (see solver.layers)
+    k0 = (
+        0 if layers is None else max(lo[2], 0)
+    )  # constants on a 2D grid (see solver.compiled.layers)
     k1 = 1 if layers is None else min(hi[2], nz)
     for i in range(max(lo[0], 0), min(hi[0], nx)):
         ui = np.uint64(i)
@@ -135,7 +138,7 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
                 diag[i, j, k] = d
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers):
     """Net outward flux per active cell through the fluid and solid parts of its faces (m/s).
 
@@ -146,9 +149,9 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers
     solid's speed over the sliver's fraction (a box entering the domain at 3 m/s: 15.7 m/s through
     a face 16 % open). In a closed domain the probe's entry is then a net inflow, which the
     projection spreads over all cells (it removes the mean). ``layers``: as
-    :func:`solver.layers.layer_count` gives it."""
+    :func:`solver.compiled.layers.layer_count` gives it."""
     nx, ny, nz = out.shape
-    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.layers)
+    nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.compiled.layers)
     comps = (u, v, w)
     ws = (wx, wy, wz)
     owners = (ox, oy, oz)
@@ -197,7 +200,7 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers
                 out[i, j, k] = total
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
     """Correct the faces of component ``axis`` with ``W > 0`` by ``-(phi_hi - phi_lo) / h``.
 
@@ -249,7 +252,7 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
                     q[i, j, k] -= (hi - lo) / h
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _fresh_pressure(p, was_active, i, j, k, dim):
     """The mean pressure of the previously active neighbours of cell (i, j, k) (0 when none)."""
     nx, ny, nz = p.shape
@@ -266,7 +269,7 @@ def _fresh_pressure(p, was_active, i, j, k, dim):
     return total / n if n else 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def fill_fresh_pressure(p, was_active, active, dim):
     """Cells active now but not before take the mean pressure of their previously active
     neighbours (0 when none); cells no longer active are zeroed."""
@@ -297,7 +300,7 @@ def fill_fresh_pressure(p, was_active, active, dim):
                     p[i, j, k] = 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def pressure_rhs(flux, active, h, closed, phi):
     """In place, flat arrays: the flux through each cell's faces times ``-h`` (the Poisson
     right-hand side), less its mean over ``active`` where the domain is ``closed``
@@ -311,7 +314,7 @@ def pressure_rhs(flux, active, h, closed, phi):
             phi[idx] = 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def remove_mean(rhs, active):
     """Subtract the mean over ``active`` entries from those entries, flat arrays (a closed
     domain's Poisson problem is solvable only for a right-hand side of zero sum)."""
@@ -368,7 +371,7 @@ def project_cut(
 ) -> SolveReport:
     """Make the velocity discretely divergence-free on the cut geometry, in place; ``phi`` is the
     warm start and the result (``p dt / rho`` or its increment); ``linear_solve`` as in
-    :func:`solver.projection.project`."""
+    :func:`solver.staircase.projection.project`."""
     dim = system.dim
     flux = np.empty(static.shape)
     u, v, w = comps

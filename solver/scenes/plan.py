@@ -16,12 +16,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from solver.boundary import SIDE_NAMES
-from solver.component_threads import AUTO_MIN_SAMPLES, usable_cores
-from solver.multigrid import PARALLEL_MIN_CELLS
+from solver.compiled.threads import AUTO_MIN_SAMPLES, usable_cores
+from solver.linalg.multigrid import PARALLEL_MIN_CELLS
 from solver.probes import Probe
+from solver.settings import JACOBI_LIMIT
 from solver.shapes import Box
 from solver.simulation import Simulation
-from solver.solver_settings import JACOBI_LIMIT
 
 MIB = 1024.0 * 1024.0
 
@@ -103,20 +103,20 @@ def _advection(sim: Simulation) -> Decision:
         return Decision(
             "advection",
             "none (Stokes flow)",
-            "solver.advection = none: the velocity's self-advection is left out, valid only where "
+            "solver.advection.velocity = none: the velocity's self-advection is left out, valid only where "
             "the Reynolds number is far below 1 (creeping flow)",
         )
     if sim.settings.advection == "maccormack":
         return Decision(
             "advection",
             "bounded MacCormack (second order)",
-            "solver.advection = maccormack: less numerical diffusion for about 1.5x the "
+            "solver.advection.velocity = maccormack: less numerical diffusion for about 1.5x the "
             "advection cost (two extra interpolation passes)",
         )
     return Decision(
         "advection",
         "semi-Lagrangian, linear interpolation (first order)",
-        "solver.advection = linear: the cheapest scheme; more numerical diffusion",
+        "solver.advection.velocity = linear: the cheapest scheme; more numerical diffusion",
     )
 
 

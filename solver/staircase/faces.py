@@ -1,31 +1,18 @@
 """Classifying velocity faces against solids, and the rigid no-slip values (numba kernels).
 
-Cells carry a label: ``FLUID`` (-1), ``STATIC_SOLID`` (-2) or the index (>= 0) of the probe that
-covers them. A face of velocity component ``a`` is
-
-* ``FREE`` (0): both neighbouring cells are fluid (or fluid and an open outflow side); an unknown;
-* ``BOUNDARY`` (1): it lies on a fluid/solid interface or on a closed domain side; its value is
-  prescribed (the solid's or the side's velocity);
-* ``INTERIOR`` (2): both neighbours are solid; its value is the solid's velocity, used as the
-  wall value when a tangential neighbour reflects across the solid's surface (paper eq. 15).
+The cell labels and face kinds it writes are defined in :mod:`solver.labels`.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.unsigned import U0, U1
-
-FLUID = -1
-STATIC_SOLID = -2
-
-FREE = 0
-BOUNDARY = 1
-INTERIOR = 2
+from solver.compiled.jit import inline_kernel, kernel
+from solver.compiled.unsigned import U0, U1
+from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def rigid_velocity(centre, vel, omega, p, x, y, z, axis):
     """Component ``axis`` of the rigid velocity V + omega x (x - c) of probe ``p`` at (x, y, z)."""
     rx = x - centre[p, 0]
@@ -38,7 +25,7 @@ def rigid_velocity(centre, vel, omega, p, x, y, z, axis):
     return vel[p, 2] + omega[p, 0] * ry - omega[p, 1] * rx
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_type, values, lo,
                    hi):  # fmt: skip
     """Classify the faces of component ``axis`` and set solid faces to the solid's velocity, in
@@ -102,7 +89,7 @@ def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_ty
                     values[i, j, k] = 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def label_cells(label, static_label, static_solid, owner_cell, use_owner):
     """Cell labels for a step: ``STATIC_SOLID`` where ``static_solid``, else ``FLUID``, into both
     ``label`` and ``static_label``; then, with ``use_owner``, a fluid cell whose centre a probe

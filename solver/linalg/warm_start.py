@@ -30,7 +30,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from solver.pcg import LinearSolve, SolveReport, StencilSystem
+from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem
 
 
 class WarmStart:

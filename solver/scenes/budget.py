@@ -33,7 +33,7 @@ from common.errors import InputError
 
 if TYPE_CHECKING:
     from solver.grid import Grid
-    from solver.scene import Scene
+    from solver.scenes.scene import Scene
 
 #: Bytes per cell while a scene runs (measured 154-174, rounded up).
 BYTES_PER_CELL = 200

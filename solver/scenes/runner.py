@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from solver.scene import Scene
+from solver.scenes.scene import Scene
 from solver.simulation import Simulation, StepStats
 
 

@@ -1,7 +1,7 @@
 """Between ways of doing the same work, the one that has been cheapest lately, by measurement.
 
 The pressure solve of a large 3D grid can run its multigrid's passes on two threads or on one,
-with the same bits (:mod:`solver.parallel_kernels`). On two free cores the threads win (the
+with the same bits (:mod:`solver.compiled.parallel`). On two free cores the threads win (the
 solver benchmark's 64³ projection: 17.4 / 20.5 against 29.6 / 34.7 ms a step); with the other
 core busy, each of the solve's many short parallel loops waits for a thread the OS has not
 scheduled yet, and one thread wins by 2x (78.4 against 38.8 ms beside a ``yes`` process). Which

@@ -1,6 +1,6 @@
 """Force and torque on a probe from a momentum balance over a control volume around it.
 
-The staircase boundary makes the surface stress integral (:mod:`solver.stress`) biased and noisy
+The staircase boundary makes the surface stress integral (:mod:`solver.staircase.stress`) biased and noisy
 (the paper's Figs. 4-5): its shear is taken on faces that do not follow the true surface. The
 momentum balance over a box of fluid around the probe,
 
@@ -15,18 +15,18 @@ and enclose the probe with a margin; otherwise the caller falls back to the surf
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.faces import FLUID
+from solver.compiled.jit import inline_kernel, kernel
+from solver.labels import FLUID
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _cc(q, a, i, j, k):
     """Cell-centred value of component ``a`` at cell (i, j, k)."""
     return 0.5 * (q[i, j, k] + q[i + (a == 0), j + (a == 1), k + (a == 2)])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def box_surface_flux(u, v, w, pressure, label, lo, hi, dim, h, rho, mu, ref, out):
     """Sum of ``(sigma . n - rho u (u . n)) dA`` over the faces of the cell box [lo, hi).
 
@@ -78,7 +78,7 @@ def box_surface_flux(u, v, w, pressure, label, lo, hi, dim, h, rho, mu, ref, out
     return True
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _face_flux(comps, pressure, b, s, fi, fj, fk, li, lj, lk, dim, h, rho, mu_cell, area, ref, out):
     qb = comps[b]
     ub = qb[fi, fj, fk]
@@ -117,7 +117,7 @@ def _face_flux(comps, pressure, b, s, fi, fj, fk, li, lj, lk, dim, h, rho, mu_ce
     return True
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def box_momentum(u, v, w, label, lo, hi, dim, h, rho, ref, out):
     """Linear (3) and angular (3, about ``ref``) momentum of the fluid cells in box [lo, hi)."""
     out[:] = 0.0

@@ -19,18 +19,19 @@ next to it, so a probe in thick paint feels more than one in thin air.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.faces import FLUID, rigid_velocity
+from solver.compiled.jit import inline_kernel, kernel
+from solver.labels import FLUID
+from solver.staircase.faces import rigid_velocity
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline_kernel
 def _cell_value(q, b, i, j, k):
     """Cell-centred value of component ``b`` (mean of the cell's two b-faces)."""
     return 0.5 * (q[i, j, k] + q[i + (b == 0), j + (b == 1), k + (b == 2)])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _tangential_derivative(q, b, t, i, j, k, h):
     """d(u_b)/d(x_t) at the centre of cell (i, j, k) by central differences of cell-centred
     values (one-sided at the domain edge). Solid neighbours hold their rigid velocity, so the
@@ -51,7 +52,7 @@ def _tangential_derivative(q, b, t, i, j, k, h):
     return (vhi - vlo) / ((hi - lo) * h)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _face_traction(comps, pressure, mu, p, gi, gj, gk, b, s, xf, yf, zf, dim, h, rigid, out):
     """Traction (N/m^2) on probe ``p`` at its face across axis ``b`` (direction ``s``) into fluid
     cell (gi, gj, gk) into ``out`` (3,); returns the pressure part's component along ``b``."""
@@ -70,7 +71,7 @@ def _face_traction(comps, pressure, mu, p, gi, gj, gk, b, s, xf, yf, zf, dim, h,
     return -pressure[gi, gj, gk] * s
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def stress_integral(
     label, u, v, w, pressure, mu_cell, h, dim, rigid, reference, f_pressure, f_viscous, torque
 ):

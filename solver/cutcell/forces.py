@@ -16,16 +16,16 @@ moves, so the force has no grid-crossing spikes. 2D: N/m and N m/m; 3D: N and N 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from solver.faces import rigid_velocity
+from solver.compiled.jit import kernel
 from solver.interp import sample, velocity_at
+from solver.staircase.faces import rigid_velocity
 
 PROBE_DISTANCE_CELLS = 1.5
 PRESSURE_EXTRAPOLATION = 1.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _relative_velocity(u, v, w, dim, x, y, z, h, rigid, p, out):
     """Velocity relative to probe ``p``'s rigid motion at (x, y, z) into ``out`` (3,)."""
     vx, vy, vz = velocity_at(u, v, w, dim, x, y, z, h)
@@ -34,7 +34,7 @@ def _relative_velocity(u, v, w, dim, x, y, z, h, rigid, p, out):
     out[2] = (vz - rigid_velocity(rigid[0], rigid[1], rigid[2], p, x, y, z, 2)) if dim == 3 else 0.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _cell_sdf(phi_node, owner_node, dim, i, j, k):
     """Mean SDF of the cell's corners and the owner of its deepest corner."""
     total = 0.0
@@ -52,7 +52,7 @@ def _cell_sdf(phi_node, owner_node, dim, i, j, k):
     return total / (4 * nk), owner
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def cut_surface_force(
     wx, wy, wz, phi_node, owner_node, active, lo, hi, u, v, w, pressure, mu_cell, h, dim, rigid,
     reference, f_pressure, f_viscous, torque,
