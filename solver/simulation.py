@@ -9,12 +9,12 @@ probe.
 from __future__ import annotations
 
 import functools
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from common.timing import PhaseTimer
 from solver.advection.velocity import ADVECTION_CHOICES, SCHEMES, advect_velocity
 from solver.boundary import OUTFLOW, DomainBoundary
 from solver.compiled.layers import layer_count
@@ -235,8 +235,7 @@ class Simulation:
         if not (np.isfinite(dt_s) and dt_s > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt_s}")
         g, st, cfg = self.grid, self.state, self.settings
-        ms: dict[str, float] = {}
-        t0 = time.perf_counter()
+        clock = PhaseTimer()
         vel = (st.comps[0], st.comps[1], st.comps[2])
         if self._needs_previous_state():
             self._previous = (vel, st.label.copy())
@@ -263,19 +262,15 @@ class Simulation:
             if self.fluid.body_force_m_s2[a]:
                 new[a] += dt_s * self.fluid.body_force_m_s2[a]
             st.comps[a] = new[a]
-        t1 = time.perf_counter()
-        ms["advect"] = 1e3 * (t1 - t0)
+        clock.mark("advect")
         if not geometry:
             place_probes()
         system = geometry[0]
         self._apply_boundaries()
-        t2 = time.perf_counter()
-        ms["boundaries"] = 1e3 * (t2 - t1)
         if cfg.incremental_pressure:
             active = system.active if system is not None else st.label == FLUID
             self._old_pressure_gradient(active, dt_s)
-        t2b = time.perf_counter()
-        ms["boundaries"] += 1e3 * (t2b - t2)
+        clock.mark("boundaries")
         # with a second thread, the pressure's multigrid hierarchy (from the matrix, which the
         # viscosity does not change) is built beside the viscosity solves, in the slack that
         # three components leave on two threads
@@ -285,26 +280,23 @@ class Simulation:
             else None
         )
         visc = self._diffuse(dt_s, preload, system)
-        t3 = time.perf_counter()
-        ms["viscosity"] = 1e3 * (t3 - t2b)
+        clock.mark("viscosity")
         job = None if beside is None else BesideJob(beside, threads)
         try:
             report = self._project(dt_s, system, preload)
-            t4 = time.perf_counter()
-            ms["projection"] = 1e3 * (t4 - t3)
+            clock.mark("projection")
             self._last_dt = dt_s
             self._compute_forces()
         except BaseException:
             if job is not None:
                 job.settle()
             raise
-        t5 = time.perf_counter()
-        ms["forces"] = 1e3 * (t5 - t4)
+        clock.mark("forces")
         self.time_s += dt_s
         if job is not None:
             job.result()
-            ms["beside"] = 1e3 * (time.perf_counter() - t5)
-        return StepStats(self.time_s, 1e3 * (time.perf_counter() - t0), ms, report, visc)
+            clock.mark("beside")
+        return StepStats(self.time_s, clock.total_ms, clock.ms, report, visc)
 
     def _project(
         self, dt_s: float, system: StencilSystem | None, preload: Multigrid | None

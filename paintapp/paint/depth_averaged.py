@@ -33,6 +33,7 @@ import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, Section, TipPose
 from common.tilt import yaw_angle
+from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
 from paintapp.paint.exchange import (
     CellSpace,
@@ -45,7 +46,6 @@ from paintapp.paint.paint_model import (
     ForceNeeds,
     PaintModel,
     PaintStep,
-    PhaseTimer,
     section_height_m,
     unwrap_angle,
 )

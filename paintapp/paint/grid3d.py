@@ -30,6 +30,7 @@ import time
 import numpy as np
 
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
+from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import ColumnWindow
@@ -43,7 +44,7 @@ from paintapp.paint.exchange import (
 from paintapp.paint.far_field import band_change, padded_transport, side_faces
 from paintapp.paint.kernels import fill_columns
 from paintapp.paint.nearest_room import tip_distance
-from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep, PhaseTimer
+from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.texel_velocity import column_face_velocity
 from paintapp.paint.trail import lay_trail, paint_faces, vacated_share

@@ -28,7 +28,6 @@ smaller footprint, :mod:`paintapp.paint.fit`).
 from __future__ import annotations
 
 import math
-import time
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field, replace
 
@@ -37,6 +36,7 @@ from scipy.ndimage import binary_dilation
 
 from brushes import BrushPreset, PaintReservoir, Section, TipPose, voxelize
 from common.tilt import yaw_angle
+from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.columns import SWEEP_MIN_TEXELS, ColumnWindow, cell_texels, square_texel_m
@@ -107,25 +107,6 @@ class PaintStep:
     phase_ms: dict[str, float] = field(default_factory=dict)
     channels: int = 0
     stokes_steps: int = 0
-
-
-class PhaseTimer:
-    """Wall time of consecutive phases of a step, in ms."""
-
-    def __init__(self) -> None:
-        self.start = self._last = time.perf_counter()
-        self.ms: dict[str, float] = {}
-
-    def mark(self, phase: str) -> None:
-        """The time since the previous mark (or the start) was spent in ``phase``."""
-        now = time.perf_counter()
-        self.ms[phase] = self.ms.get(phase, 0.0) + 1e3 * (now - self._last)
-        self._last = now
-
-    @property
-    def total_ms(self) -> float:
-        """Time since the start, ms."""
-        return 1e3 * (time.perf_counter() - self.start)
 
 
 def add_reports(a: ExchangeReport, b: ExchangeReport) -> ExchangeReport:
