@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -33,7 +33,7 @@ from common.tilt import (
 )
 
 InputKind = Literal["tablet", "haptic"]
-INPUT_KINDS: tuple[str, ...] = ("tablet", "haptic")
+INPUT_KINDS: tuple[InputKind, ...] = get_args(InputKind)
 MIN_DT_S = 1e-6
 
 

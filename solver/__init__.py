@@ -7,7 +7,8 @@ name (a scene reader, the cell labels) does not load every numerical kernel.
 
 Layout: the model at the top (:mod:`solver.grid`, :mod:`solver.boundary`, :mod:`solver.labels`,
 :mod:`solver.shapes`, :mod:`solver.probes`, :mod:`solver.settings`, :mod:`solver.simulation`,
-:mod:`solver.interp`), and one subpackage per part of the method: :mod:`solver.advection`,
+:mod:`solver.interp`, :mod:`solver.field_shift`), the typed bundles of arrays the kernels take
+(:mod:`solver.bundles`), and one subpackage per part of the method: :mod:`solver.advection`,
 :mod:`solver.cutcell`, :mod:`solver.staircase`, :mod:`solver.linalg`, :mod:`solver.forces`,
 :mod:`solver.sampled`, :mod:`solver.scenes`, and the numba plumbing in :mod:`solver.compiled`.
 """
@@ -32,7 +33,15 @@ if TYPE_CHECKING:
     from solver.scenes.plan import Decision, explain
     from solver.scenes.runner import NonFiniteError, run_scene
     from solver.scenes.scene import Scene, load_scene, method_keys, parse_scene
-    from solver.settings import SolverSettings
+    from solver.settings import (
+        Advection,
+        BoundaryMethod,
+        ForceModel,
+        Preconditioner,
+        PressureScheme,
+        SolverSettings,
+        ViscosityPreconditioner,
+    )
     from solver.shapes import Ball, Box, FilletedBox, Shape, with_rounded_corners
     from solver.simulation import Fluid, FluidState, ProbeForce, Simulation, StepStats
 
@@ -52,7 +61,13 @@ _HOME: dict[str, str] = {
     "Shape": "solver.shapes",
     "with_rounded_corners": "solver.shapes",
     "Probe": "solver.probes",
+    "Advection": "solver.settings",
+    "BoundaryMethod": "solver.settings",
+    "ForceModel": "solver.settings",
+    "Preconditioner": "solver.settings",
+    "PressureScheme": "solver.settings",
     "SolverSettings": "solver.settings",
+    "ViscosityPreconditioner": "solver.settings",
     "Fluid": "solver.simulation",
     "FluidState": "solver.simulation",
     "ProbeForce": "solver.simulation",
@@ -89,8 +104,10 @@ __all__ = [
     "INTERIOR",
     "MAX_THREADS",
     "STATIC_SOLID",
+    "Advection",
     "Ball",
     "BesideJob",
+    "BoundaryMethod",
     "Box",
     "Decision",
     "DomainBoundary",
@@ -98,8 +115,11 @@ __all__ = [
     "FilletedBox",
     "Fluid",
     "FluidState",
+    "ForceModel",
     "Grid",
     "NonFiniteError",
+    "Preconditioner",
+    "PressureScheme",
     "Probe",
     "ProbeForce",
     "SampledFlow",
@@ -110,6 +130,7 @@ __all__ = [
     "SolverSettings",
     "StepStats",
     "SurfaceRule",
+    "ViscosityPreconditioner",
     "check_memory",
     "explain",
     "frame_pair",

@@ -109,7 +109,7 @@ def test_bundled_scenes_load():
         ("[run]", "[solver]\ncorner_radius_cells = -1\n\n[run]", "solver.corner_radius_cells", "0"),
         ("[run]", "[solver]\nthreads = -1\n\n[run]", "solver.threads", "0"),
         ("[run]", '[solver]\nthreads = "many"\n\n[run]', "solver.threads", "integer"),
-        ("[run]", "[solver]\nwarm_start = 1\n\n[run]", "solver.linalg.warm_start", "true or false"),
+        ("[run]", "[solver]\nwarm_start = 1\n\n[run]", "solver.warm_start", "true or false"),
         (
             "[run]",
             "[solver]\ncorner_radius_cells = nan\n\n[run]",
