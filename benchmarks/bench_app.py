@@ -1,6 +1,6 @@
 """Frame rate, simulation rate and servo jitter of the painting window while it paints.
 
-    python benchmarks/bench_app.py [--seconds 6] [--device none|sim] [--servo process|thread]
+    python benchmarks/bench_app.py [--seconds 6] [--device none|sim|openhaptics|dhd|haply] [--servo process|thread]
                                    [--simulation thread|process]
                                    [--headless-seconds S] [--bare-seconds S] [--rounds N]
                                    [--json OUT.json]
@@ -218,7 +218,12 @@ def headless_rate(seconds: float, journal: Path) -> tuple[float, float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=6.0)
-    parser.add_argument("--device", choices=("none", "sim"), default="none")
+    parser.add_argument(
+        "--device",
+        default="none",
+        metavar="none|sim|openhaptics[:NAME]|dhd|haply[:ID]",
+        help="the haptic device (default: none); vendor devices need their library or service",
+    )
     parser.add_argument("--servo", choices=("process", "thread"), default="process")
     parser.add_argument("--simulation", choices=("thread", "process"), default="thread",
                         help="where the window's simulation runs")  # fmt: skip

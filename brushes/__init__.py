@@ -1,4 +1,7 @@
-"""Brush tips: signed-distance geometry, presets, stylus-to-tip mapping, paint reservoir."""
+"""Brush tips: signed-distance geometry (:mod:`.tips`, its numba kernels :mod:`.tips_kernels`),
+presets (:mod:`.presets`), the stylus sample (:mod:`.stylus`) and its mapping to a tip pose
+(:mod:`.pose`), the tip as a moving solver probe (:mod:`.probe`), the bristle texture
+(:mod:`.bristles`) and the paint reservoir (:mod:`.reservoir`)."""
 
 from brushes.pose import INPUT_KINDS, InputKind, TipPose, TipTracker, place_tip
 from brushes.presets import (

@@ -1,29 +1,21 @@
 """Bristle texture of a brush: where across its footprint the bristles leave more or less paint.
 
-A bristle brush does not lay paint down as one even sheet: its hairs gather in clumps, each of
-which leaves a streak of paint along the stroke (thinner paint, grooves, between the streaks),
-and the hairs splayed at the sides of the footprint push paint up into a ridge along each edge
-of the stroke.
-Because every clump moves with the brush, the pattern depends only on the position *across* the
-motion: it is a profile of ``u``, the across-motion coordinate scaled to ``[-1, 1]`` over the
-footprint's width.
+A bristle brush's hairs gather in clumps, each leaving a streak of paint along the stroke, and
+the hairs splayed at the sides push paint up into a ridge along each edge. Every clump moves with
+the brush, so the pattern is a profile of ``u``, the across-motion coordinate scaled to
+``[-1, 1]`` over the footprint's width. :class:`Bristles` holds a preset's ``[bristles]`` table
+and gives that profile:
 
-:class:`Bristles` holds a preset's ``[bristles]`` table and gives that profile:
+- ``clumps`` streaks at stratified, jittered positions, each a Gaussian ``0.35 / clumps`` of the
+  width wide and of random strength in [0.5, 1]; their sum over its largest value is the *streak*
+  profile ``t(u)`` in [0, 1], optionally with each Gaussian widened by a ``blur`` in quadrature
+  (:meth:`Bristles.profiles`: a canvas cannot hold a streak narrower than its texels);
+- the edge ridge ``e(u)`` rises from 0 to 1 over the outer ``1.5 / clumps`` of the width.
 
-- ``clumps`` streaks at stratified, jittered positions across the width, each a Gaussian of width
-  ``0.35 / clumps`` of the full width and of random strength in [0.5, 1]; their sum, divided by
-  its largest value, is the *streak* profile ``t(u)`` in [0, 1]. A canvas cannot hold a streak
-  narrower than its texels (sampled, it prints as a jagged, beaded line wherever the stroke runs
-  across the texel rows), so the profile can be asked for with each Gaussian widened by a
-  ``blur`` added in quadrature (:meth:`Bristles.profiles`);
-- the edge ridge ``e(u)`` rises from 0 to 1 over the outer ``1.5 / clumps`` of the width on each
-  side.
-
-Where the paint goes (:mod:`paintapp.paint.bristles` applies it on the canvas texels): paint laid
-down is spread in proportion to ``1 - contrast + contrast * t(u) + ridge * e(u)``, and paint taken
-away (picked up, pushed on) is taken in proportion to ``1 - contrast * t(u)``; both are
-normalised per grid column, so the texture moves paint *within* a column's reach and never
-creates or destroys any.
+:mod:`paintapp.paint.bristles` applies it on the canvas texels: paint laid down is spread in
+proportion to ``1 - contrast + contrast * t(u) + ridge * e(u)``, paint taken away in proportion
+to ``1 - contrast * t(u)``; both are normalised per grid column, so the texture moves paint
+*within* a column's reach and never creates or destroys any.
 """
 
 from __future__ import annotations

@@ -143,9 +143,17 @@ class BrushPreset:
         """Validate a parsed preset table; raises :class:`InputError` naming ``source`` and key."""
         top = Table(data, source or "", "")
         top.expect(
-            ("description", "shape", "stiffness", "capacity_m3", "size", "pressure", "tilt",
-             "bristles")
-        )  # fmt: skip
+            (
+                "description",
+                "shape",
+                "stiffness",
+                "capacity_m3",
+                "size",
+                "pressure",
+                "tilt",
+                "bristles",
+            )
+        )
         shape = top.string("shape", choices=SHAPES)
         size = _size_table(top.table("size"), shape)
         capacity = top.number(

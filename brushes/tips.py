@@ -26,7 +26,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from brushes.tip_kernels import (
+from brushes.tips_kernels import (
     ROUND_CONE,
     ROUNDED_BOX,
     round_cone_params,
@@ -35,7 +35,7 @@ from brushes.tip_kernels import (
     tip_sdf,
 )
 
-#: A tip's compiled form (:mod:`brushes.tip_kernels`): ``(kind, params, lateral scale)``.
+#: A tip's compiled form (:mod:`brushes.tips_kernels`): ``(kind, params, lateral scale)``.
 Kernel = tuple[int, np.ndarray, float]
 
 
@@ -114,9 +114,12 @@ class RoundCone:
 
     @cached_property
     def kernel(self) -> Kernel:
-        """The compiled form (:mod:`brushes.tip_kernels`)."""
-        return ROUND_CONE, round_cone_params(self.tip_radius_m, self.belly_radius_m,
-                                             self.length_m), 1.0  # fmt: skip
+        """The compiled form (:mod:`brushes.tips_kernels`)."""
+        return (
+            ROUND_CONE,
+            round_cone_params(self.tip_radius_m, self.belly_radius_m, self.length_m),
+            1.0,
+        )
 
     def sdf(self, points: np.ndarray) -> np.ndarray:
         return _compiled_sdf(self.kernel, points)
@@ -178,7 +181,7 @@ class RoundedBox:
 
     @cached_property
     def kernel(self) -> Kernel:
-        """The compiled form (:mod:`brushes.tip_kernels`)."""
+        """The compiled form (:mod:`brushes.tips_kernels`)."""
         centre, half = self._core
         return ROUNDED_BOX, rounded_box_params(centre[2], half, self.corner_radius_m), 1.0
 
@@ -202,8 +205,10 @@ class RoundedBox:
     def with_min_corner_radius(self, radius_m: float) -> RoundedBox:
         """This box with its edges rounded by at least ``radius_m`` (at most half its smallest
         size): the solver rounds sharp corners at its grid's scale."""
-        radius = min(max(radius_m, self.corner_radius_m),
-                     0.5 * min(self.width_m, self.thickness_m, self.length_m))  # fmt: skip
+        radius = min(
+            max(radius_m, self.corner_radius_m),
+            0.5 * min(self.width_m, self.thickness_m, self.length_m),
+        )
         return self if radius == self.corner_radius_m else replace(self, corner_radius_m=radius)
 
 
@@ -274,7 +279,7 @@ class Splayed:
 
     @property
     def kernel(self) -> Kernel | None:
-        """The compiled form (:mod:`brushes.tip_kernels`), or None when the base has none or is
+        """The compiled form (:mod:`brushes.tips_kernels`), or None when the base has none or is
         stretched itself."""
         base = getattr(self.base, "kernel", None)
         if base is None or base[2] != 1.0:

@@ -1,5 +1,8 @@
-"""What every layer shares and nothing heavy: user-input errors, strict TOML tables, the name
-rules for files' identifiers, and orientation math (quaternions, the stylus tilt convention).
+"""What every layer shares and nothing heavy: user-input errors (:mod:`.errors`), strict TOML
+tables (:mod:`.tables`), the name rules for files' identifiers (:mod:`.names`), orientation math
+(quaternions, :mod:`.quaternion`; the stylus tilt convention, :mod:`.tilt`), the wall time of a
+step's phases (:mod:`.timing`), and command-line output to a pipe that may close early
+(:mod:`.pipes`).
 
 Imports only the standard library and numpy, so the servo loop can start light.
 """

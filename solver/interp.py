@@ -32,8 +32,7 @@ def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, floa
 def _cell(s: float, n: int) -> tuple[np.uint64, float]:
     """Lower sample index (unsigned) and fraction of sample coordinate ``s``, clamped to
     [0, n - 1]; NaN clamps to 0. Branch-free min/max, and an unsigned index spares numba's
-    wrap-around test on every access that uses it (interpolation 1.5-3x faster than
-    :func:`_clamped`, the same values)."""
+    wrap-around test on every access that uses it (the same values as :func:`_clamped`)."""
     if not s > 0.0:  # also NaN
         s = 0.0
     s = min(s, n - 1.0)

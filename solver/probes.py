@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -22,7 +23,8 @@ from common import quaternion as rotation
 from solver.grid import Grid
 from solver.shapes import Shape
 
-PATH_INTERPOLATIONS = ("linear", "cubic")
+PathInterpolation = Literal["linear", "cubic"]
+PATH_INTERPOLATIONS: tuple[PathInterpolation, ...] = get_args(PathInterpolation)
 Pose = tuple[np.ndarray, np.ndarray | float]
 
 
@@ -78,7 +80,7 @@ class Probe:
     angular_velocity_rad_s: np.ndarray | float = 0.0
     path: np.ndarray | None = None
     reference_m: np.ndarray | None = None
-    path_interpolation: str = "linear"
+    path_interpolation: PathInterpolation = "linear"
     _spline: Callable[[float], Pose] | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -98,7 +100,10 @@ class Probe:
         if self.reference_m is None:
             self.reference_m = np.zeros(d)
         if self.path_interpolation not in PATH_INTERPOLATIONS:
-            raise ValueError(f"path_interpolation must be one of {PATH_INTERPOLATIONS}")
+            raise ValueError(
+                f"path_interpolation must be one of {PATH_INTERPOLATIONS}, "
+                f"got {self.path_interpolation!r}"
+            )
         if self.path is not None:
             self.path = np.asarray(self.path, dtype=float)
             if self.path_interpolation == "cubic" and len(self.path) > 1:

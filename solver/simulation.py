@@ -15,8 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from common.timing import PhaseTimer
-from solver.advection.velocity import ADVECTION_CHOICES, SCHEMES, advect_velocity
+from solver.advection.velocity import SCHEMES, advect_velocity
 from solver.boundary import OUTFLOW, DomainBoundary
+from solver.bundles import ForceSums, Sides, StressFields, Velocity, Window
 from solver.compiled.layers import layer_count
 from solver.compiled.threads import (
     AUTO_THREADS,
@@ -26,19 +27,31 @@ from solver.compiled.threads import (
     thread_count,
     usable_cores,
 )
-from solver.cutcell.forces import cut_surface_force
+from solver.cutcell.forces import SurfacePatches, cut_surface_force
 from solver.cutcell.geometry import UNIT, CutGeometry
 from solver.cutcell.projection import (
+    CutFaces,
     cut_flux,
     fill_fresh_pressure,
     pressure_system,
     project_cut,
     subtract_cut_gradient,
 )
-from solver.cutcell.viscosity import ViscosityWork, assemble_cut, diffuse_cut, mark_probe_samples
+from solver.cutcell.viscosity import (
+    CutWalls,
+    ViscosityWork,
+    assemble_cut,
+    diffuse_cut,
+    mark_probe_samples,
+)
 from solver.field_shift import shifted, shifted_by
 from solver.forces import drag_models
-from solver.forces.momentum_balance import box_momentum, box_surface_flux, probe_box
+from solver.forces.momentum_balance import (
+    ControlVolume,
+    box_momentum,
+    box_surface_flux,
+    probe_box,
+)
 from solver.grid import Grid
 from solver.interp import sample_cells_fluid, sample_many
 from solver.labels import FLUID
@@ -47,17 +60,19 @@ from solver.linalg.pcg import JacobiPCG, LinearSolve, SolveReport, StencilSystem
 from solver.linalg.warm_start import WarmStart
 from solver.probes import Probe
 from solver.settings import (
-    BOUNDARY_METHODS,
     MAX_CORNER_RADIUS_CELLS,
-    PRECONDITIONERS,
-    PRESSURE_SCHEMES,
-    VISCOSITY_PRECONDITIONERS,
     SolverSettings,
 )
-from solver.staircase.faces import classify_faces, label_cells, solid_adjacent_faces
+from solver.staircase.faces import (
+    Component,
+    RigidMotion,
+    classify_faces,
+    label_cells,
+    solid_adjacent_faces,
+)
 from solver.staircase.projection import divergence_sum, project, subtract_gradient
 from solver.staircase.stress import stress_integral
-from solver.staircase.viscosity import diffuse
+from solver.staircase.viscosity import ViscousStep, Walls, diffuse
 
 __all__ = ["Fluid", "ProbeForce", "Simulation", "SolverSettings", "StepStats"]
 
@@ -156,18 +171,6 @@ class Simulation:
         self.boundary = boundary or DomainBoundary(grid)
         self.probes = list(probes or [])
         self.settings = settings or SolverSettings()
-        if self.settings.advection not in ADVECTION_CHOICES:
-            raise ValueError(f"advection must be one of {ADVECTION_CHOICES}")
-        if self.settings.force_model not in drag_models.MODELS:
-            raise ValueError(f"force_model must be one of {drag_models.MODELS}")
-        if self.settings.boundary_method not in BOUNDARY_METHODS:
-            raise ValueError(f"boundary_method must be one of {BOUNDARY_METHODS}")
-        if self.settings.pressure_scheme not in PRESSURE_SCHEMES:
-            raise ValueError(f"pressure_scheme must be one of {PRESSURE_SCHEMES}")
-        if self.settings.preconditioner not in PRECONDITIONERS:
-            raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}")
-        if self.settings.viscosity_preconditioner not in VISCOSITY_PRECONDITIONERS:
-            raise ValueError(f"viscosity_preconditioner must be one of {VISCOSITY_PRECONDITIONERS}")
         self.component_samples = min(int(np.prod(grid.face_shape(a))) for a in range(grid.dim))
         self.component_threads()  # refuses a thread count out of range
         if not 0.0 <= self.settings.corner_radius_cells <= MAX_CORNER_RADIUS_CELLS:  # NaN too
@@ -317,10 +320,19 @@ class Simulation:
         else:
             self._pressure_warm.forget()
         if system is not None and self.cut is not None:
-            report = project_cut(st.comps, system, self._static_label, self.cut.open_frac,
-                                 self.cut.owner_face, self._rigid,
-                                 g.cell_size_m, self._kinds, phi, cfg.pressure_tolerance,
-                                 cfg.max_iterations, pressure_solve)  # fmt: skip
+            faces = CutFaces(self.cut.open_frac, self.cut.owner_face, self._rigid)
+            report = project_cut(
+                st.comps,
+                system,
+                self._static_label,
+                faces,
+                g.cell_size_m,
+                self._kinds,
+                phi,
+                cfg.pressure_tolerance,
+                cfg.max_iterations,
+                pressure_solve,
+            )
         else:
             report = project(
                 st.comps,
@@ -362,8 +374,9 @@ class Simulation:
             boxes = [(lo - 1, hi + 1) for lo, hi in kept[2] + windows]  # clipped by the assembly
         if self._pressure_work is None:
             self._pressure_work = StencilSystem.empty(g.cells, g.dim)
-        system = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac,
-                                 self._pressure_work, boxes)  # fmt: skip
+        system = pressure_system(
+            self._static_label, g.dim, self._kinds, cut.open_frac, self._pressure_work, boxes
+        )
         # reassembled in boxes, the kept labels already are this step's
         static = kept[0] if boxes is not None and kept is not None else self._static_label.copy()
         self._pressure_built = (static, self._kinds.copy(), windows)
@@ -380,8 +393,16 @@ class Simulation:
         h = g.cell_size_m
         for a in range(g.dim):
             if self.cut is not None:
-                subtract_cut_gradient(st.comps[a], self._static_label, self._kinds,
-                                      self.cut.open_frac[a], a, active, phi_old, h)  # fmt: skip
+                subtract_cut_gradient(
+                    st.comps[a],
+                    self._static_label,
+                    self._kinds,
+                    self.cut.open_frac[a],
+                    a,
+                    active,
+                    phi_old,
+                    h,
+                )
             else:
                 subtract_gradient(st.comps[a], st.face_types[a], a, phi_old, h)
 
@@ -400,32 +421,31 @@ class Simulation:
         rho, h = self.fluid.density_kg_m3, g.cell_size_m
         coupling = 2 * g.dim * mu_max * dt_s / (rho * h * h)
         solves = self._viscosity_solvers(cfg.viscosity_solver(coupling))
+        step = self._viscous_step(dt_s)
+        tol, max_iter = cfg.viscosity_tolerance, cfg.max_iterations
         if self.cut is None:
-            return tuple(run_components(
-                lambda a: diffuse(
-                    st.comps[a], st.face_types[a], a, g.dim, self.viscosity_pa_s, dt_s, rho,
-                    self._kinds, self._side_vel, st.label, rigid, h, cfg.viscosity_tolerance,
-                    cfg.max_iterations, self.drag_per_s, solves[a],
-                ),
-                g.dim,
-                self.component_threads(),
-            ))  # fmt: skip
-        cut = self.cut
+            walls = Walls(st.label, rigid, h)
+            return tuple(
+                run_components(
+                    lambda a: diffuse(self._component(a), step, walls, tol, max_iter, solves[a]),
+                    g.dim,
+                    self.component_threads(),
+                )
+            )
         if not self._viscosity_work:
-            self._viscosity_work = [ViscosityWork.for_shape(g.face_shape(a), g.dim)
-                                    for a in range(g.dim)]  # fmt: skip
+            self._viscosity_work = [
+                ViscosityWork.for_shape(g.face_shape(a), g.dim) for a in range(g.dim)
+            ]
 
         def task(a: int) -> SolveReport | None:
             if a == g.dim:  # the pressure's hierarchy
                 if preload is not None and system is not None:
                     preload.load(system)
                 return None
+            walls = self._cut_walls(a)
             return diffuse_cut(
-                st.comps[a], st.face_types[a], a, g.dim, self.viscosity_pa_s, dt_s, rho,
-                self._kinds, self._side_vel, self._static_label, rigid, h, cut.phi_face[a],
-                cut.owner_sample[a], cfg.viscosity_tolerance, cfg.max_iterations,
-                self.drag_per_s, solves[a], self._viscosity_work[a],
-            )  # fmt: skip
+                self._component(a), step, walls, tol, max_iter, solves[a], self._viscosity_work[a]
+            )
 
         threads = self.component_threads()
         if threads == 2 and g.dim == 3:
@@ -434,6 +454,31 @@ class Simulation:
         reports = run_components(task, tasks, threads)
         return tuple(r for r in reports[: g.dim] if r is not None)
 
+    def _viscous_step(self, dt_s: float) -> ViscousStep:
+        """What this step's viscosity solves share across the components."""
+        sides = Sides(self._kinds, self._side_vel)
+        return ViscousStep(
+            self.grid.dim,
+            self.viscosity_pa_s,
+            dt_s,
+            self.fluid.density_kg_m3,
+            sides,
+            self.drag_per_s,
+        )
+
+    def _component(self, axis: int) -> Component:
+        """Velocity component ``axis`` with its face kinds."""
+        st = self.state
+        return Component(st.comps[axis], st.face_types[axis], axis)
+
+    def _cut_walls(self, axis: int) -> CutWalls:
+        """The probes as walls of component ``axis`` on the cut geometry."""
+        cut = self.cut
+        assert cut is not None
+        h = self.grid.cell_size_m
+        phi, owner = cut.phi_face[axis], cut.owner_sample[axis]
+        return CutWalls(self._static_label, self._rigid, h, phi, owner)
+
     def _diffuse_split(
         self, task: Callable[[int], SolveReport | None], last: LinearSolve, dt_s: float
     ) -> tuple[SolveReport, ...]:
@@ -441,26 +486,21 @@ class Simulation:
         component and the last, the other assembles the last component's system (and loads its
         multigrid hierarchy) first, then does the second component whole and the pressure's
         hierarchy (``task(3)``). Three whole components left one thread with two of them and
-        the other with one (the painting grid: 3.5 against 2.1 ms); the same values."""
-        g, st, cfg, cut = self.grid, self.state, self.settings, self.cut
-        assert cut is not None
+        the other with one; the same values."""
+        st, cfg = self.state, self.settings
         prepare, solve_last = _prepared(last)
         work = self._viscosity_work[2]
 
         def assemble_last() -> None:
-            assemble_cut(
-                st.comps[2], st.face_types[2], 2, g.dim, self.viscosity_pa_s, dt_s,
-                self.fluid.density_kg_m3, self._kinds, self._side_vel, self._static_label,
-                self._rigid, g.cell_size_m, cut.phi_face[2], cut.owner_sample[2], self.drag_per_s,
-                work,
-            )  # fmt: skip
+            assemble_cut(self._component(2), self._viscous_step(dt_s), self._cut_walls(2), work)
             prepare(work.system)
 
         def own(wait: Callable[[int], object]) -> tuple[SolveReport, SolveReport]:
             first = task(0)
             wait(0)
-            third = solve_last(work.system, work.rhs, st.comps[2], cfg.viscosity_tolerance,
-                               cfg.max_iterations)  # fmt: skip
+            third = solve_last(
+                work.system, work.rhs, st.comps[2], cfg.viscosity_tolerance, cfg.max_iterations
+            )
             assert first is not None
             return first, third
 
@@ -500,8 +540,10 @@ class Simulation:
             for warm in self._viscosity_warm:
                 warm.forget()
             return solves
-        return [functools.partial(self._viscosity_warm[a].solve, solve)
-                for a, solve in enumerate(solves)]  # fmt: skip
+        return [
+            functools.partial(self._viscosity_warm[a].solve, solve)
+            for a, solve in enumerate(solves)
+        ]
 
     # -- fields the caller may set ---------------------------------------------------------------
     def set_viscosity(self, mu_pa_s: np.ndarray) -> None:
@@ -599,11 +641,11 @@ class Simulation:
         rigid, ref = self._rigid_and_reference()
         return rigid[0], rigid[1], rigid[2], ref
 
-    def _rigid_and_reference(self) -> tuple[np.ndarray, np.ndarray]:
+    def _rigid_and_reference(self) -> tuple[RigidMotion, np.ndarray]:
         """:meth:`rigid_motion` as the kernels take it: centre, velocity and angular velocity
-        stacked (3, n, 3), and the torque reference (n, 3)."""
+        (:class:`~solver.staircase.faces.RigidMotion`), and the torque reference (n, 3)."""
         n = max(len(self.probes), 1)
-        rigid, ref = np.zeros((3, n, 3)), np.zeros((n, 3))
+        rigid, ref = RigidMotion(*np.zeros((3, n, 3))), np.zeros((n, 3))
         centre, vel, omega = rigid
         origin = np.asarray(self.grid.origin_m)
         d = self.grid.dim
@@ -623,9 +665,8 @@ class Simulation:
         labels, the sides' kinds and the face arrays are what the last full pass classified,
         only the last step's windows are classified again (which clears their marks) and the
         static solids' faces reset to rest; otherwise the whole grid. The same values either
-        way (64³: 1.1 ms for the whole grid)."""
+        way."""
         g, st = self.grid, self.state
-        centre, vel, omega, _ = self._motion
         rigid = self._rigid
         kept = self._kept_faces()
         label = st.label if self.cut is None else self._static_label
@@ -635,22 +676,24 @@ class Simulation:
             boxes = (
                 [(ZERO3, BIG3)] if kept is None else [(lo, hi + UNIT[a]) for lo, hi in kept.windows]
             )
+            comp = self._component(a)
             for lo, hi in boxes:
-                classify_faces(label, a, open_lo, open_hi, centre, vel, omega, g.cell_size_m,
-                               st.face_types[a], st.comps[a], lo, hi)  # fmt: skip
+                classify_faces(
+                    label, comp, (open_lo, open_hi), rigid, g.cell_size_m, Window(lo, hi)
+                )
             if kept is not None:
                 st.comps[a].flat[kept.solid_faces[a]] = 0.0
             if self.cut is not None:
                 cut = self.cut
+                walls = self._cut_walls(a)
                 for lo, hi in cut.windows:
-                    face_hi = hi + UNIT[a]
-                    mark_probe_samples(st.face_types[a], st.comps[a], cut.phi_face[a],
-                                       cut.owner_sample[a], cut.open_frac[a], a, lo, face_hi,
-                                       rigid, g.cell_size_m, relax)  # fmt: skip
+                    window = Window(lo, hi + UNIT[a])
+                    mark_probe_samples(comp, walls, cut.open_frac[a], window, relax)
         if self.cut is not None:
             if kept is None:
-                solid = [solid_adjacent_faces(label, a, st.face_types[a].shape)
-                         for a in range(g.dim)]  # fmt: skip
+                solid = [
+                    solid_adjacent_faces(label, a, st.face_types[a].shape) for a in range(g.dim)
+                ]
                 kept = KeptFaces(label.copy(), self._kinds.copy(), tuple(st.face_types), solid)
             kept.windows = list(self.cut.windows)
             self._faces_built = kept
@@ -688,16 +731,15 @@ class Simulation:
         if self.settings.force_model in ("drag", "viscous_drag"):
             self._approximate_forces()
             return
-        centre, vel, omega, ref = self._motion
+        ref = self._motion[3]
         n = len(self.probes)
         fp, fv, tq = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-        comps = st.comps
         if self.cut is not None:
             self._cut_forces(ref, fp, fv, tq)
         else:
-            stress_integral(st.label, comps[0], comps[1], comps[2], st.pressure,
-                            self.viscosity_pa_s, g.cell_size_m, d, (centre, vel, omega), ref, fp,
-                            fv, tq)  # fmt: skip
+            sums = ForceSums(fp, fv, tq)
+            fields = self._stress_fields()
+            stress_integral(st.label, fields, g.cell_size_m, d, self._rigid, ref, sums)
         for i, probe in enumerate(self.probes):
             force, torque = fp[i] + fv[i], tq[i]
             if self.settings.force_model == "control_volume":
@@ -713,7 +755,7 @@ class Simulation:
 
     def _cut_forces(self, ref: np.ndarray, fp: np.ndarray, fv: np.ndarray, tq: np.ndarray) -> None:
         """The cut-surface integral over the union window of all probes."""
-        cut, g, st = self.cut, self.grid, self.state
+        cut, g = self.cut, self.grid
         fp[:], fv[:], tq[:] = 0.0, 0.0, 0.0
         if cut is None or not cut.windows:
             return
@@ -722,14 +764,17 @@ class Simulation:
         else:
             lo = np.min([w[0] for w in cut.windows], axis=0)
             hi = np.max([w[1] for w in cut.windows], axis=0)
-        active = self._was_active if self.settings.incremental_pressure else None
-        if active is None or active.shape != g.cells:
-            active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
-        u, v, w = st.comps
-        wx, wy, wz = cut.open_frac
-        cut_surface_force(wx, wy, wz, cut.phi_node, cut.owner_node, active, lo, hi, u, v, w,
-                          st.pressure, self.viscosity_pa_s, g.cell_size_m, g.dim,
-                          self._rigid, ref, fp, fv, tq)  # fmt: skip
+        patches = SurfacePatches(cut.open_frac, cut.phi_node, cut.owner_node)
+        fields = self._stress_fields()
+        sums = ForceSums(fp, fv, tq)
+        window = Window(lo, hi)
+        cut_surface_force(patches, window, fields, g.cell_size_m, g.dim, self._rigid, ref, sums)
+
+    def _stress_fields(self) -> StressFields:
+        """The velocity, pressure and viscosity the probe forces are formed from."""
+        st = self.state
+        velocity = Velocity(st.comps[0], st.comps[1], st.comps[2])
+        return StressFields(velocity, st.pressure, self.viscosity_pa_s)
 
     def _momentum_balance(
         self, index: int, ref: np.ndarray
@@ -743,15 +788,14 @@ class Simulation:
         if box is None or self._last_dt <= 0.0 or self._previous is None:
             return None
         lo, hi = box
-        h, rho, mu = g.cell_size_m, self.fluid.density_kg_m3, self.viscosity_pa_s
-        u, v, w = st.comps
+        cv = ControlVolume(Window(lo, hi), g.dim, g.cell_size_m, self.fluid.density_kg_m3, ref)
         surface, now, before = np.zeros(6), np.zeros(6), np.zeros(6)
-        if not box_surface_flux(u, v, w, st.pressure, st.label, lo, hi, g.dim, h, rho, mu, ref,
-                                surface):  # fmt: skip
+        fields = self._stress_fields()
+        if not box_surface_flux(fields, st.label, cv, surface):
             return None
-        box_momentum(u, v, w, st.label, lo, hi, g.dim, h, rho, ref, now)
+        box_momentum(fields.velocity, st.label, cv, now)
         (u0, v0, w0), label0 = self._previous
-        box_momentum(u0, v0, w0, label0, lo, hi, g.dim, h, rho, ref, before)
+        box_momentum(Velocity(u0, v0, w0), label0, cv, before)
         total = surface - (now - before) / self._last_dt
         return total[:3], total[3:]
 
@@ -796,12 +840,10 @@ class Simulation:
         if self.cut is not None:
             cut = self.cut
             active = pressure_system(self._static_label, g.dim, self._kinds, cut.open_frac).active
-            centre, vel, omega, _ = self.rigid_motion()
-            u, v, w = st.comps
-            wx, wy, wz = cut.open_frac
-            ox, oy, oz = cut.owner_face
-            cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, g.dim, g.cell_size_m,
-                     np.stack([centre, vel, omega]), out, layer_count(out.shape))  # fmt: skip
+            rigid, _ = self._rigid_and_reference()
+            velocity = Velocity(st.comps[0], st.comps[1], st.comps[2])
+            faces = CutFaces(cut.open_frac, cut.owner_face, rigid)
+            cut_flux(velocity, faces, active, g.dim, g.cell_size_m, out, layer_count(out.shape))
             return out / g.cell_size_m
         divergence_sum(st.comps[0], st.comps[1], st.comps[2], st.label, g.dim, out)
         return out / g.cell_size_m

@@ -1,25 +1,21 @@
 """The canvas widget: renders the display canvas with moderngl offscreen and shows it as an image,
 and turns pointer events into stylus samples.
 
-It is a plain raster :class:`QWidget`. The GL work happens in a standalone (EGL) context that
-the widget owns, into an offscreen 8-bit framebuffer the size of the widget; each pass of the
-render loop (:meth:`CanvasWidget.refresh`, a Qt timer at the display rate):
+A plain raster :class:`QWidget`: the GL work happens in a standalone (EGL) context the widget
+owns, into an offscreen 8-bit framebuffer the widget's size. Each pass of the render loop
+(:meth:`CanvasWidget.refresh`, a Qt timer at the display rate):
 
 1. uploads the display canvas's dirty region, under the shared lock (only for the upload);
-2. finds the widget rectangle that changed: that dirty region on screen, and where the brush
-   outline and the force arrow were and are now (all of it after a resize, a new light, a new
-   canvas);
+2. finds the widget rectangle that changed: that region on screen, and where the brush outline
+   and the force arrow were and are now (all of it after a resize, a new light or canvas);
 3. draws only that rectangle (a GL scissor): minified, the Kubelka-Munk mixing and lighting per
    window pixel (:meth:`CanvasRenderer.render`); magnified, the cached lit picture
-   (:meth:`CanvasRenderer.render_cached`, which shades at most each changed texel once);
-4. reads that rectangle back (sRGB-encoded as it was drawn, as in ``preview.png``) into the
-   widget's image and asks Qt to repaint just that rectangle.
+   (:meth:`CanvasRenderer.render_cached`, which shades each changed texel at most once);
+4. reads that rectangle back (sRGB-encoded, as in ``preview.png``) into the widget's image and
+   asks Qt to repaint just that rectangle.
 
-Qt's raster backing store then puts only the changed pixels on the screen. This replaced a
-``QOpenGLWidget``: on a software rasterizer its composition of the whole window through GL and
-the full-window redraw of every frame cost ~35 ms of CPU per frame, which both capped the frame
-rate and starved the simulation worker (measured with ``benchmarks/bench_app.py``, see the
-README).
+Qt's raster backing store then puts only the changed pixels on the screen, where a GL widget
+would compose and redraw the whole window every frame (costly on a software rasterizer).
 """
 
 from __future__ import annotations

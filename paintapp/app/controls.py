@@ -131,8 +131,10 @@ class ControlsPanel(QWidget):
             key = f"{(i + 1) % 10}  " if i < 10 else ""
             button = SwatchButton(f"{key}{label}")
             shortcut = f" (key {(i + 1) % 10})" if i < 10 else ""
-            button.setToolTip(f"{label}{shortcut}: click to load the brush, Shift+click to put it "
-                              "on the mixing slab")  # fmt: skip
+            button.setToolTip(
+                f"{label}{shortcut}: click to load the brush, Shift+click to put it "
+                "on the mixing slab"
+            )
             colour = swatch_colour(library, name)
             text = text_colour(colour)
             button.setStyleSheet(

@@ -45,8 +45,10 @@ def launch_explorer(
         except DeviceNotFoundError:
             raise
         except (RuntimeError, OSError) as exc:
-            print(f"servo process unavailable ({exc}); running the servo loop in a thread",
-                  file=sys.stderr)  # fmt: skip
+            print(
+                f"servo process unavailable ({exc}); running the servo loop in a thread",
+                file=sys.stderr,
+            )
             link = HapticLink(spec, force_scale=args.force_scale, mode="thread")
             link.start()
     window = None

@@ -81,8 +81,12 @@ class ExploreWindow(QWidget):
         w, h = self.width(), self.height() - 60
         span = self.hi[:2] - self.lo[:2]
         scale = min(w / span[0], h / span[1])
-        return QRectF((w - span[0] * scale) / 2, 60 + (h - span[1] * scale) / 2,
-                      span[0] * scale, span[1] * scale)  # fmt: skip
+        return QRectF(
+            (w - span[0] * scale) / 2,
+            60 + (h - span[1] * scale) / 2,
+            span[0] * scale,
+            span[1] * scale,
+        )
 
     def to_screen(self, p: np.ndarray) -> QPointF:
         v = self._view()

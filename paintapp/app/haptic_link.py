@@ -8,6 +8,9 @@ its live timing.
   the pointer: pen up, the hand hovers 5 mm above the canvas; pen down, it pushes the tip into
   the paint as deep as the pen's pressure asks. The force the loop writes acts back on the hand.
 - ``hid:VID:PID`` (optionally ``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
+- ``openhaptics[:NAME]``, ``dhd``, ``haply[:ID]``: a vendor backend
+  (:mod:`~paintapp.haptics.devices.backends`): a 3D Systems Touch or Phantom, a Force Dimension
+  device or Novint Falcon, a Haply Inverse3.
 
 With a device the servo loop runs, by default, in a process of its own
 (:class:`~paintapp.haptics.process.ServoProcess`: it owns the device, and shared memory carries
@@ -32,7 +35,13 @@ from brushes import StylusSample
 from common.errors import InputError
 from paintapp.haptics.channel import ForceChannel, StateChannel
 from paintapp.haptics.clock import RealTimeClock
-from paintapp.haptics.device import DeviceState, HapticDevice
+from paintapp.haptics.device import DeviceNotFoundError, DeviceState, HapticDevice
+from paintapp.haptics.devices.backends import (
+    VENDOR_NAMES,
+    VENDOR_SYNTAX,
+    build_vendor_device,
+    split_device,
+)
 from paintapp.haptics.devices.hid import HidDevice
 from paintapp.haptics.devices.hid_transport import open_hid, parse_ids
 from paintapp.haptics.devices.simulated import SimulatedDevice
@@ -51,28 +60,42 @@ METER_TICKS = 2000
 
 @dataclass(frozen=True)
 class DeviceSpec:
-    """A parsed ``--device`` value: ``kind`` is "none", "sim" or "hid"."""
+    """A parsed ``--device`` value: ``kind`` is "none", "sim", "hid" or a vendor backend's name
+    (``arg`` then holds what follows the colon)."""
 
     kind: str
     vendor_id: int | None = None
     product_id: int | None = None
     protocol: str = "stylus"
+    arg: str = ""
 
     @property
     def label(self) -> str:
         """Short text for the HUD."""
         if self.kind == "hid":
             return f"hid {self.vendor_id:04x}:{self.product_id:04x} ({self.protocol})"
+        if self.kind in VENDOR_NAMES:
+            return f"{self.kind} {self.arg}".strip()
         return {"none": "tablet/mouse", "sim": "simulated haptic stylus"}[self.kind]
 
 
 def parse_device(text: str) -> DeviceSpec:
-    """Parse ``none``, ``sim`` or ``hid:VID:PID[:stylus|pid]``; :class:`InputError` otherwise."""
+    """Parse ``none``, ``sim``, ``hid:VID:PID[:stylus|pid]`` or a vendor backend
+    (``openhaptics[:NAME]``, ``dhd``, ``haply[:ID]``); :class:`InputError` otherwise."""
     if text in ("none", "sim"):
         return DeviceSpec(text)
+    try:
+        vendor = split_device(text)
+    except DeviceNotFoundError as exc:
+        raise InputError(str(exc), key="--device") from exc
+    if vendor is not None:
+        return DeviceSpec(vendor[0], arg=vendor[1])
     parts = text.split(":")
     if parts[0] != "hid" or len(parts) not in (3, 4):
-        raise InputError(f"expected none, sim or hid:VID:PID (hex), got {text!r}", key="--device")
+        raise InputError(
+            f"expected none, sim, hid:VID:PID (hex) or {VENDOR_SYNTAX}, got {text!r}",
+            key="--device",
+        )
     vid, pid = parse_ids(f"{parts[1]}:{parts[2]}")
     protocol = parts[3] if len(parts) == 4 else "stylus"
     if protocol not in ("stylus", "pid"):
@@ -147,6 +170,8 @@ def make_device(spec: DeviceSpec, clock: RealTimeClock, target: PointerTarget) -
     if spec.kind == "hid":
         vid, pid = spec.vendor_id, spec.product_id
         return HidDevice(lambda: open_hid(vid, pid), spec.protocol, clock.now_s)
+    if spec.kind in VENDOR_NAMES:
+        return build_vendor_device(spec.kind, spec.arg, clock.now_s)
     raise InputError("no device to open", key="--device")
 
 
@@ -167,9 +192,8 @@ class HapticLink:
         target: the simulated hand's target (``sim`` only; thread form).
         mode: "process" or "thread".
         armed: the servo process's heartbeat watchdog counts from the start; False: from
-            :meth:`arm` (a window arms it once its first frame is drawn and its simulation is
-            prepared: the first frame's shader compiles and, on a new installation, the kernels'
-            compilation hold the interpreter lock, and with it the heartbeat, for seconds).
+            :meth:`arm` (a window arms it once its first frame is drawn and its simulation
+            prepared: shader and kernel compilation hold the interpreter lock for seconds).
     """
 
     def __init__(
@@ -262,6 +286,8 @@ def device_text(spec: DeviceSpec) -> str:
         return "sim"
     if spec.kind == "hid":
         return f"hid:{spec.vendor_id:04x}:{spec.product_id:04x}:{spec.protocol}"
+    if spec.kind in VENDOR_NAMES:
+        return f"{spec.kind}:{spec.arg}" if spec.arg else spec.kind
     raise InputError("no device to open", key="--device")
 
 

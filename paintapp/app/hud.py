@@ -203,8 +203,12 @@ class HudOverlay(QWidget):
         x, y, w, h = outline.x(), outline.y(), outline.width(), outline.height()
         period = sum(GRID_DASH)
         across, down = self._dash_strips(max(self.width(), self.height()) + period)
-        sides = ((across, x, y, w + 1), (across, x, y + h, w + 1), (down, x, y, h + 1),
-                 (down, x + w, y, h + 1))  # fmt: skip
+        sides = (
+            (across, x, y, w + 1),
+            (across, x, y + h, w + 1),
+            (down, x, y, h + 1),
+            (down, x + w, y, h + 1),
+        )
         for strip, sx, sy, length in sides:
             flat = strip is across
             side = QRect(sx, sy, length, 1) if flat else QRect(sx, sy, 1, length)

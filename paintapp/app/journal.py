@@ -1,22 +1,19 @@
 """The stroke journal: every sample and event the painting session consumed, as it happens.
 
 The simulation worker writes each stylus sample it hands to the session, and every palette or
-brush event, through a :class:`~paintapp.strokes.recorder.StrokeRecorder` (one flushed line per record),
-so a crash loses at most the line being written. Times are the session's own clock, so replaying
-the journal (``paintapp replay``) paints the same strokes in the same steps.
+brush event, through a :class:`~paintapp.strokes.recorder.StrokeRecorder` (one flushed line per
+record), so a crash loses at most the line being written. Times are the session's own clock, so
+replaying the journal (``paintapp replay``) paints the same strokes in the same steps.
 
 Actions the stroke format has no event for are written as ``marker`` events, which replay
 ignores: ``undo``, ``redo``, ``fluid_model <name>``, ``viscosity_pa_s <v>``, ``brush_scale <s>``,
 ``device fault: ...``, ``slab put <pigment>``, ``slab clear``. A replay therefore repaints undone
-strokes, and the session settings in force are those of the header's scene.
-
-Paint picked up from the mixing slab is written as a ``slab dab`` or ``slab mix`` marker, a
-``clean`` and one ``load_pigment`` per pigment the brush then carries, so a replay loads the brush
-with the same mixture though it does not replay the slab.
+strokes, with the header scene's settings. Paint picked up from the mixing slab is written as a
+``slab dab`` or ``slab mix`` marker, a ``clean`` and one ``load_pigment`` per pigment the brush
+then carries, so a replay loads the same mixture without replaying the slab.
 
 When the canvas is replaced (new canvas, open, recovery) the journal moves on to a new file next
-to the first one (``name-2.jsonl``, ``name-3.jsonl``, ...), since a stroke file describes one
-canvas.
+to the first one (``name-2.jsonl``, ``name-3.jsonl``, ...): a stroke file describes one canvas.
 """
 
 from __future__ import annotations

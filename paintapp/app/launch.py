@@ -98,8 +98,10 @@ def start_link(options: PaintOptions):
         except DeviceNotFoundError:
             raise
         except (RuntimeError, OSError) as exc:
-            print(f"servo process unavailable ({exc}); running the servo loop in a thread",
-                  file=sys.stderr)  # fmt: skip
+            print(
+                f"servo process unavailable ({exc}); running the servo loop in a thread",
+                file=sys.stderr,
+            )
     link = HapticLink(options.device, None, scale, mode="thread")
     link.start()
     return link
@@ -136,10 +138,10 @@ def freeze_startup_heap() -> int:
     """Move everything alive now (modules, compiled kernels, the window) out of the cyclic
     garbage collector's reach, and return how many objects that was.
 
-    The collector's full pass scans every tracked object while holding the interpreter lock: over
-    the app's ~1.8 x 10^5 objects from start-up it took 15-160 ms, a freeze of the window and the
-    simulation whenever a long session ages enough new objects to trigger one. After the freeze
-    a pass scans only what was made since (start-up objects are never garbage)."""
+    The collector's full pass scans every tracked object while holding the interpreter lock: with
+    the app's start-up objects, a visible freeze of the window and the simulation whenever a long
+    session ages enough new objects to trigger one. After the freeze a pass scans only what was
+    made since (start-up objects are never garbage)."""
     gc.collect()
     gc.freeze()
     return gc.get_freeze_count()

@@ -34,9 +34,8 @@ class PaintOptions:
         frame_ms: the render timer's period, ms.
         servo: where the 1 kHz servo loop runs with a device: "process" (its own process, real
             time where the OS grants it) or "thread" (a thread of the app).
-        simulation: where the simulation worker runs: "thread" (a thread of the app) or
-            "process" (its own process, :mod:`paintapp.app.sim_process`; with a device only
-            beside a servo process).
+        simulation: where the simulation worker runs: "thread" or "process"
+            (:mod:`paintapp.app.sim_process`; with a device only beside a servo process).
     """
 
     canvas_path: Path | None = None

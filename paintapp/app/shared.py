@@ -125,8 +125,7 @@ class WorkerStatus:
         grid_m: the paint grid's (x0, y0, x1, y1) on the canvas, m, while in contact.
         force_n, torque_nm: (3,) the last published force and torque on the tip.
         reservoir_m3: paint in the brush, m^3.
-        strokes: strokes committed so far.
-        undo, redo: undo and redo depth.
+        strokes, undo, redo: strokes committed so far; undo and redo depth.
         fault: a device failure message, or None.
         message: a short note for the status line ("" for none).
         paint_steps: paint steps so far.

@@ -1,28 +1,21 @@
 """The simulation worker in a process of its own (``paintapp paint --simulation process``).
 
-In a thread, the simulation worker shares the interpreter lock with the GUI thread: each of its
-kernel calls (about 70 a paint step) needs the lock back, and waits while the GUI holds it. Here
-the very same :class:`~paintapp.app.worker.SimulationWorker` runs in a child process started with
-``spawn``, and the window talks to it through :class:`SimulationProcess`, which offers the
-worker's interface (``push``, ``submit``, ``status``, ``slab_view``, ``stop``):
+In a thread, each of the worker's many kernel calls a paint step waits for the interpreter lock
+while the GUI holds it. Here the :class:`~paintapp.app.worker.SimulationWorker` runs in a
+``spawn``-started child behind :class:`SimulationProcess`, which offers the worker's interface:
 
-- down a pipe go the tablet or mouse samples, the commands (picklable: each is a
-  :func:`functools.partial` of a module-level function of :mod:`paintapp.app.actions`), a device
-  fault the window noticed, and stop;
-- up a second pipe come the regions of the canvas that changed (the box, the pigments' names,
-  the paint and wetness in it), which a receiver thread copies into the window's display canvas
-  under its lock (:meth:`SharedCanvas.apply_region`), a canvas that replaced the display one, the
+- down a pipe: stylus samples, commands (each a picklable :func:`functools.partial` of a function
+  of :mod:`paintapp.app.actions`), a device fault the window noticed, and stop;
+- up another: the changed canvas regions, which a receiver thread copies into the window's
+  display canvas under its lock (:meth:`SharedCanvas.apply_region`), a replacing canvas, the
   worker's status and the mixing slab's picture;
 - with a haptic device the child reads the stylus and publishes the force through the servo
-  process's shared memory itself (:class:`ChildLink`); the servo loop must then run in its own
-  process (``--servo process``, the default).
+  process's shared memory itself (:class:`ChildLink`; the servo loop then runs in a process).
 
-The child owns the live canvas, the undo history and the journal. The display canvas the window
-keeps is the live canvas up to the last region sent, so autosave and save work from it as with
-a thread. If the child dies, the receiver says so in the status's ``fault`` (the window autosaves
-at once, as after a device fault) and the display canvas keeps all the paint sent so far. If the
-window dies, the child's pipe closes: the worker commits the stroke, closes the journal and the
-child exits.
+The child owns the live canvas, the undo history and the journal; the window's display canvas is
+the live one up to the last region sent, so autosave and save work from it. If the child dies,
+the status's ``fault`` says so (the window autosaves at once) and the paint sent so far is kept;
+if the window dies, the child commits the stroke, closes the journal and exits.
 """
 
 from __future__ import annotations
@@ -184,9 +177,14 @@ def child_main(spec: SimulationSpec, inbox: Connection, outbox: Connection) -> N
     sender = _Sender(outbox)
     link = ChildLink(spec.servo_block) if spec.servo_block is not None else None
     worker = SimulationWorker(
-        spec.canvas, RemoteDisplay(sender), spec.settings, spec.pigments,  # type: ignore[arg-type]
-        Journal(spec.record, spec.overwrite_record), spec.user_scene, link,  # type: ignore[arg-type]
-    )  # fmt: skip
+        spec.canvas,
+        RemoteDisplay(sender),  # type: ignore[arg-type]
+        spec.settings,
+        spec.pigments,
+        Journal(spec.record, spec.overwrite_record),
+        spec.user_scene,
+        link,  # type: ignore[arg-type]
+    )
     worker.status = _RemoteSlot(sender, "status")  # type: ignore[assignment]
     worker.slab_view = _RemoteSlot(sender, "slab")  # type: ignore[assignment]
     worker.idle = _RemoteEvent(sender)  # type: ignore[assignment]

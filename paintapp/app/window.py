@@ -90,9 +90,15 @@ class PaintWindow(QMainWindow):
         if self.simulation == "process":
             block = None if link is None or link.process is None else link.process.block.name
             self.worker = SimulationProcess(
-                canvas, self.shared, self.settings, self.pigments, options.record,
-                options.overwrite_record, options.scene, block,
-            )  # fmt: skip
+                canvas,
+                self.shared,
+                self.settings,
+                self.pigments,
+                options.record,
+                options.overwrite_record,
+                options.scene,
+                block,
+            )
         else:
             self.worker = SimulationWorker(
                 canvas, self.shared, self.settings, self.pigments, self.journal, options.scene, link

@@ -2,25 +2,20 @@
 
 Each pass of its loop:
 
-1. runs the commands the GUI queued (palette, mixing slab, brush, scene, undo/redo, a new
-   canvas); the worker owns the brush's paint and the mixing slab's;
-2. takes the latest input: with a tablet or mouse, the samples the GUI pushed since the last pass
-   (pen-down/pen-up transitions, the newest sample, and while the pen is down one sample every
-   half brush radius of travel, so a slow pass shortens the work but never breaks the stroke;
-   while the pen is held still the last sample is used again, so the paint keeps flowing); with a haptic device, the newest
-   pose the servo loop published (from its own process, through shared memory, by default);
-3. stamps each sample with the session clock, hands it to the
-   :class:`~paintapp.session.painting.PaintingSession` (which publishes the force to the servo loop's
-   channel) and journals it;
-4. copies the canvas region that changed into the display canvas (under the shared lock, only
-   for the copy), grows the current stroke's region, commits the stroke to the undo history when
-   the brush leaves the paint, and publishes a :class:`~paintapp.app.shared.WorkerStatus`.
+1. runs the commands the GUI queued; the worker owns the brush's paint and the mixing slab's;
+2. takes the latest input: with a tablet or mouse, the samples pushed since the last pass
+   (pen transitions, the newest sample, and while the pen is down one sample every half brush
+   radius of travel, so a slow pass never breaks the stroke; a pen held still repeats its last
+   sample, so the paint keeps flowing); with a haptic device, the servo loop's newest pose;
+3. stamps each sample with the session clock, hands it to the session and journals it;
+4. copies the changed canvas region into the display canvas (under the shared lock), commits the
+   stroke to the undo history when the brush leaves the paint, and publishes a
+   :class:`~paintapp.app.shared.WorkerStatus`.
 
-The session clock advances with wall time but by at most ``MAX_STEP_S`` per sample, so a slow
-step never makes the next one longer (the simulation slows down instead of falling behind).
-A failing device, or a servo process that died, ends the stroke (it is kept, undoable and
-journalled), lifts the brush and switches the input back to the tablet or mouse; nothing painted
-is lost.
+The session clock advances with wall time but by at most ``MAX_STEP_S`` per sample: a slow step
+slows the simulation instead of making the next step longer. A failing device or a dead servo
+process ends the stroke (kept, undoable, journalled), lifts the brush and switches the input back
+to the tablet or mouse.
 """
 
 from __future__ import annotations
@@ -121,9 +116,13 @@ class SimulationWorker(threading.Thread):
         self.slab_view: LatestValue[Canvas] = LatestValue()
         self.history = UndoHistory(canvas)
         self.session = rebuild_session(
-            None, canvas, make_preset(settings), make_scene(settings, user_scene),
-            self.input_kind, self.forces,
-        )  # fmt: skip
+            None,
+            canvas,
+            make_preset(settings),
+            make_scene(settings, user_scene),
+            self.input_kind,
+            self.forces,
+        )
         self._commands: queue.SimpleQueue[Command] = queue.SimpleQueue()
         self._inputs: collections.deque[StylusSample] = collections.deque(maxlen=4096)
         self._stop_event = threading.Event()
@@ -186,9 +185,12 @@ class SimulationWorker(threading.Thread):
             self._publish_status()
             try:
                 took = warm_up(
-                    self.session.preset, self.session.scene, self.live.texel_size_m,
-                    self.pigments[0], self.input_kind,
-                )  # fmt: skip
+                    self.session.preset,
+                    self.session.scene,
+                    self.live.texel_size_m,
+                    self.pigments[0],
+                    self.input_kind,
+                )
             except Exception as exc:  # the real strokes will say what is wrong, or work
                 self.message = f"could not prepare the simulation: {type(exc).__name__}: {exc}"
             else:
@@ -250,9 +252,13 @@ class SimulationWorker(threading.Thread):
 
     def _step(self, raw: StylusSample) -> None:
         sample = StylusSample(
-            self.session_time(), raw.position_m, raw.pressure, raw.tilt_rad, raw.twist_rad,
+            self.session_time(),
+            raw.position_m,
+            raw.pressure,
+            raw.tilt_rad,
+            raw.twist_rad,
             raw.buttons,
-        )  # fmt: skip
+        )
         begin = time.perf_counter()
         try:
             step = self.session.sample(sample)

@@ -127,19 +127,25 @@ def painting_families() -> list[Family]:
     """The painting replays' families: what leaving parts of the model out costs and saves, and
     the fidelity presets."""
     models = Family(
-        "painting_models", painting_models, _ERRORS, {"strokes": "short", "choice": "auto"},
+        "painting_models",
+        painting_models,
+        _ERRORS,
+        {"strokes": "short", "choice": "auto"},
         cost_key="replay_s",
         reference="the same strokes with nothing left out (3D grid everywhere, full grid, all channels)",
         quick=tuple({"choice": c} for c in CHOICES),
         full=tuple({"strokes": "demo", "choice": c} for c in CHOICES),
         cleanup=clear_references,
-    )  # fmt: skip
+    )
     fidelity = Family(
-        "painting_fidelity", painting_fidelity, _ERRORS, {"strokes": "short", "fidelity": "standard"},
+        "painting_fidelity",
+        painting_fidelity,
+        _ERRORS,
+        {"strokes": "short", "fidelity": "standard"},
         cost_key="replay_s",
         reference="the same strokes replayed at fidelity high",
         quick=tuple({"fidelity": f} for f in ("draft", "standard", "high")),
         full=tuple({"strokes": "demo", "fidelity": f} for f in ("draft", "standard", "high")),
         cleanup=clear_references,
-    )  # fmt: skip
+    )
     return [models, fidelity]

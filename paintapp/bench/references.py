@@ -68,12 +68,15 @@ def cavity(cells: int = 32, t_end_s: float = 20.0, **knobs: Any) -> Measurement:
     pts = np.column_stack([x, np.full_like(x, 0.5)])
     err_v = np.abs(sim.velocity_at(pts)[:, 1] - np.array(list(GHIA_V.values()))).max()
     return Measurement(
-        errors={"ghia_max_error": float(max(err_u, err_v)), "ghia_u_error": float(err_u),
-                "ghia_v_error": float(err_v)},
+        errors={
+            "ghia_max_error": float(max(err_u, err_v)),
+            "ghia_u_error": float(err_u),
+            "ghia_v_error": float(err_v),
+        },
         cost=step_cost(stats, sim, dt),
         notes=f"Re = 100 at {cells}x{cells}, dt = {dt:.4g} s, t = {steps * dt:.3g} s "
         "(reference run: 128x128, dt = 0.01 s, t = 20 s)",
-    )  # fmt: skip
+    )
 
 
 def schaefer_turek(dh: int = 10, t_end_s: float = 3.0, **knobs: Any) -> Measurement:

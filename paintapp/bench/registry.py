@@ -54,8 +54,11 @@ class Setting:
 
     @property
     def label(self) -> str:
-        parts = [f"{_short(k)}={v:g}" if isinstance(v, float) else f"{_short(k)}={v}"
-                 for k, v in self.changes.items() if k not in HIDDEN]  # fmt: skip
+        parts = [
+            f"{_short(k)}={v:g}" if isinstance(v, float) else f"{_short(k)}={v}"
+            for k, v in self.changes.items()
+            if k not in HIDDEN
+        ]
         return f"{self.family} " + " ".join(parts) if parts else self.family
 
 
@@ -63,8 +66,13 @@ HIDDEN = ("reference_cells",)  # knobs left out of labels (still in the JSON)
 
 
 def _short(key: str) -> str:
-    return {"pressure_tolerance": "tol", "max_iterations": "cap", "force_model": "force",
-            "sim_rate_hz": "rate", "advection": "adv"}.get(key, key)  # fmt: skip
+    return {
+        "pressure_tolerance": "tol",
+        "max_iterations": "cap",
+        "force_model": "force",
+        "sim_rate_hz": "rate",
+        "advection": "adv",
+    }.get(key, key)
 
 
 class Registry:

@@ -159,8 +159,15 @@ def run_once(
         report = loop.report()
     finally:
         loop.close()
-    return CheckRun(label, report, where, published, device.max_force_written_n,
-                    host_steal=steal.share, host_steal_peak=steal.peak)  # fmt: skip
+    return CheckRun(
+        label,
+        report,
+        where,
+        published,
+        device.max_force_written_n,
+        host_steal=steal.share,
+        host_steal_peak=steal.peak,
+    )
 
 
 def run_process_once(
@@ -196,8 +203,9 @@ def run_process_once(
     audit = servo.audit()
     bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
     max_force = float(audit.get("max_force_n", 0.0))
-    return CheckRun(label, report, where, published, max_force, servo.granted, bad,
-                    steal.share, steal.peak)  # fmt: skip
+    return CheckRun(
+        label, report, where, published, max_force, servo.granted, bad, steal.share, steal.peak
+    )
 
 
 def _wait(seconds: float, progress: Callable[[float], None] | None) -> None:

@@ -1,27 +1,21 @@
 """How strongly an image carries a ``p``-texel lattice: the phase ratio of its gradients.
 
 A paint transfer that treats the grid's ``k x k``-texel columns as boxes prints their edges into
-the paint: the colour and the paint height change mostly across texel boundaries at multiples of
-``k``. The measure: for a period ``p`` and each axis, the magnitude of the forward difference
-along that axis (colour: the Euclidean norm over channels) is averaged over every texel boundary
-of one phase (``(index + 1) mod p``); the ratio is the largest phase mean divided by the median of
-the ``p`` phase means (infinite when only some phases change at all, 1 for a flat image), and
-:func:`lattice_ratio` reports the larger of the two axes. An image
-without a lattice at ``p`` gives about 1; the box transfer gave 3.5 (colour) and 2.5 (height) at
-the demo's period of 5 texels.
+the paint: colour and paint height change mostly across texel boundaries at multiples of ``k``.
+The measure: for a period ``p`` and each axis, the magnitude of the forward difference along that
+axis (colour: the Euclidean norm over channels) is averaged over every texel boundary of one
+phase (``(index + 1) mod p``); the ratio is the largest phase mean over the median of the ``p``
+phase means (infinite when only some phases change, 1 for a flat image), and
+:func:`lattice_ratio` reports the larger of the two axes: about 1 without a lattice at ``p``.
 
-A painting's ratio is not 1 without a lattice: a few strong edges (a stroke's sides) fall on some
-phases more than on others, and the more phases (the longer the period), the fewer boundaries
-each phase averages and the larger its largest mean. :func:`null_ratio` measures that floor for
-the image at hand: the same boundaries' gradients with their phases dealt out at random (each
-phase as many boundaries as before), so that no lattice can show. The median over the deals is
-what the image gives without a lattice, and the share of deals at least as high as the observed
-ratio says whether a lattice is there (a small share: it is).
+A few strong edges (a stroke's sides) fall on some phases more than others, more so for longer
+periods, so :func:`null_ratio` measures the image's own floor: the same gradients with their
+phases dealt out at random; the median over the deals is the floor, and the share of deals at
+least as high as the observed ratio says whether a lattice is there (a small share: it is).
 
 ``python -m paintapp.canvas.lattice DIR`` prints the ratios of ``DIR/preview.png`` (colour) and
-``DIR/canvas.exr`` (paint height) for periods 2-12 with their floors and shares, and the holes of
-the painting (:func:`count_holes`): unpainted texels (paint height at most
-:data:`paintapp.canvas.model.FILM_FLOOR_M`) enclosed by painted ones.
+``DIR/canvas.exr`` (paint height) for periods 2-12 with floors and shares, and the painting's
+holes (:func:`count_holes`: texels of at most ``FILM_FLOOR_M`` enclosed by painted ones).
 """
 
 from __future__ import annotations

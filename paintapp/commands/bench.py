@@ -28,10 +28,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", metavar="OUT.json", help="write every setting's knobs, cost, errors")
     p.add_argument("--plot", metavar="P.png", help="write the Pareto fronts (error vs cost)")
     p.add_argument(
-        "--only", metavar="FAMILY", action="extend", nargs="+",
+        "--only",
+        metavar="FAMILY",
+        action="extend",
+        nargs="+",
         help="run only these families (one or more, repeatable): cavity, schaefer_turek, "
         "taylor_green, sweep, rates, painting_models, painting_fidelity",
-    )  # fmt: skip
+    )
     p.set_defaults(func=run)
 
 

@@ -10,7 +10,7 @@ filter and safety as painting.
 With ``--path`` the probe follows a scripted path (CSV: ``t_s, x_m, y_m[, z_m][, angle_rad |
 qw, qx, qy, qz]``) and ``--forces`` writes the force trace, one row per servo tick, as a replay
 does. Without it the window opens: a slice of the field with the probe, driven by the mouse or
-the haptic device (``--device sim|hid:VID:PID|none``).
+the haptic device (``--device sim|hid:VID:PID|openhaptics[:NAME]|dhd|haply[:ID]|none``).
 """
 
 from __future__ import annotations
@@ -35,17 +35,24 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__.split("\n\n", 1)[1],
     )
     parser.add_argument(
-        "data", nargs="+", metavar="DATA",
+        "data",
+        nargs="+",
+        metavar="DATA",
         help=f"data file(s), or 'example' for the bundled {EXAMPLE} (Schaefer-Turek 2D-2)",
-    )  # fmt: skip
+    )
     parser.add_argument(
-        "--probe", default=None, choices=("circle", "box", "sphere"),
+        "--probe",
+        default=None,
+        choices=("circle", "box", "sphere"),
         help="probe shape (default: circle in 2D, sphere in 3D)",
-    )  # fmt: skip
+    )
     parser.add_argument(
-        "--size", type=float, nargs="+", metavar="M",
+        "--size",
+        type=float,
+        nargs="+",
+        metavar="M",
         help="diameter, or the box's edge(s), metres (default: 8 node spacings)",
-    )  # fmt: skip
+    )
     parser.add_argument(
         "--depth", type=float, metavar="M", help="2D: depth of the probe the force is felt over"
     )
@@ -66,7 +73,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--frame-dt", type=float, metavar="S", help="VTK series without times")
     parser.add_argument(
-        "--device", default="none", metavar="sim|hid:VID:PID|none", help="haptic device (window)"
+        "--device",
+        default="none",
+        metavar="sim|hid:VID:PID|openhaptics|dhd|haply|none",
+        help="haptic device (window)",
     )
     parser.set_defaults(func=run)
 
@@ -119,8 +129,10 @@ def run(args: argparse.Namespace) -> int:
     )
     felt = result.evaluations[:, 1:4]
     peak = float(abs(felt).max()) if len(felt) else 0.0
-    print(f"{len(result.evaluations)} force evaluations, peak |F| component {peak:.4g} N, "
-          f"{len(result.trace)} servo ticks")  # fmt: skip
+    print(
+        f"{len(result.evaluations)} force evaluations, peak |F| component {peak:.4g} N, "
+        f"{len(result.trace)} servo ticks"
+    )
     if result.outside_evaluations:
         print(
             f"warning: part of the probe left the data set in {result.outside_evaluations} "

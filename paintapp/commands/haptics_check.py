@@ -1,5 +1,5 @@
-"""``paintapp haptics-check [--seconds S] [--form thread|process|both]``: how well the 1 kHz servo
-loop keeps time.
+"""``paintapp haptics-check [--seconds S] [--form thread|process|both] [--device NAME[:ARG]]``: how
+well the 1 kHz servo loop keeps time.
 
 Runs the real-time servo loop with the simulated device for S seconds idle, then S seconds beside
 a running 3D simulation, in a thread of this process and in a servo process of its own (the
@@ -7,14 +7,24 @@ window's form), and prints achieved rate, lateness percentiles, missed deadlines
 tick side by side, and what the OS granted the servo process. With the process form it then runs
 the machine's own floor for S seconds (the same clock, priority and core with an empty tick:
 :mod:`paintapp.haptics.bare_loop`), the lateness no servo loop on this machine can beat.
+
+``--device openhaptics[:NAME]|dhd|haply[:ID]`` runs the same check on a vendor device instead
+(idle, with the synthetic drag): every write is audited (non-finite, over the device's limit)
+and the device is closed with zero force at the end.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from common.errors import InputError
+from paintapp.haptics.device import DeviceNotFoundError
+
+if TYPE_CHECKING:
+    from paintapp.bench.servo_check import CheckRun
+    from paintapp.haptics.servo import ServoConfig
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,6 +38,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--scale", type=float, default=4.0, help="fluid force scale (default 4)")
     p.add_argument("--filter", choices=FILTER_KINDS, default="fir", help="reconstruction filter")
     p.add_argument("--idle-only", action="store_true", help="skip the run beside the simulation")
+    p.add_argument(
+        "--device",
+        default="sim",
+        metavar="sim|openhaptics[:NAME]|dhd|haply[:ID]",
+        help="the device to run (default: the simulated stylus)",
+    )
     p.add_argument(
         "--form",
         choices=("thread", "process", "both"),
@@ -45,6 +61,106 @@ def bare_floor(seconds: float) -> str:
         return f"machine floor: {measure_bare_loop(seconds).describe()}"
     except RuntimeError as exc:
         return f"machine floor: not measured ({exc})"
+
+
+def _vendor_thread_run(text: str, seconds: float, config: ServoConfig) -> CheckRun:
+    """The loop in a thread of this process with the device ``text`` names, idle, every write
+    audited."""
+    import threading
+    import time
+
+    import numpy as np
+
+    from paintapp.bench.servo_check import CheckRun
+    from paintapp.haptics.clock import RealTimeClock
+    from paintapp.haptics.process import GatedDevice, build_device
+    from paintapp.haptics.servo import ServoLoop
+    from paintapp.haptics.shared_state import AUDIT_WIDTH
+    from paintapp.haptics.synthetic import ViscousDragSource, run_source_thread
+
+    clock = RealTimeClock(config.tick_s)
+    audit = np.zeros(AUDIT_WIDTH)
+    device = GatedDevice(build_device(text, clock.now_s, None), audit, 0.0)
+    loop = ServoLoop(device, config=config)
+    loop.open()
+    try:
+        stop = threading.Event()
+        source = ViscousDragSource(loop.states, loop.forces)
+        thread = run_source_thread(source, 60.0, stop)
+        loop.start(clock, seconds)
+        while clock.running:
+            time.sleep(0.05)
+        loop.stop()
+        stop.set()
+        thread.join(1.0)
+        report = loop.report()
+    finally:
+        loop.close()
+    bad = int(audit[1] + audit[2])
+    return CheckRun(
+        "idle", report, "synthetic drag, 60 Hz", source.published, float(audit[3]), bad_writes=bad
+    )
+
+
+def _vendor_process_run(text: str, seconds: float, config: ServoConfig) -> CheckRun:
+    """The loop in a servo process of its own with the device ``text`` names, idle."""
+    import threading
+    import time
+
+    from paintapp.bench.servo_check import CheckRun
+    from paintapp.haptics.process import ProcessOptions, ServoProcess
+    from paintapp.haptics.synthetic import ViscousDragSource, run_source_thread
+
+    servo = ServoProcess(ProcessOptions(device=text, config=config))
+    servo.start()
+    try:
+        stop = threading.Event()
+        source = ViscousDragSource(servo.states, servo.forces)
+        thread = run_source_thread(source, 60.0, stop)
+        time.sleep(seconds)
+        stop.set()
+        thread.join(1.0)
+    finally:
+        report = servo.stop()
+    if report is None:
+        raise RuntimeError(f"the servo process ended without a report ({servo.fault})")
+    audit = servo.audit()
+    bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
+    return CheckRun(
+        "process, idle",
+        report,
+        "synthetic drag, 60 Hz",
+        source.published,
+        float(audit.get("max_force_n", 0.0)),
+        servo.granted,
+        bad,
+    )
+
+
+def run_vendor(args: argparse.Namespace, config: ServoConfig, forms: list[str]) -> list[CheckRun]:
+    """The check on a vendor device: one idle run per form."""
+    from dataclasses import replace
+
+    from paintapp.haptics.devices.backends import split_device
+
+    try:
+        if split_device(args.device) is None:
+            raise InputError(f"unknown --device {args.device!r}", key="--device")
+    except DeviceNotFoundError as exc:
+        raise InputError(str(exc), key="--device") from exc
+    print(
+        f"haptics-check: {args.device}, servo {' and '.join(forms)} at "
+        f"{1 / config.tick_s:.0f} Hz, {args.filter} filter, force scale {args.scale:g}, "
+        f"{args.seconds:g} s per run, idle (synthetic drag)"
+    )
+    runs = []
+    for form in forms:
+        if form == "thread":
+            runs.append(_vendor_thread_run(args.device, args.seconds, config))
+        else:
+            quiet = replace(config, record=False)
+            runs.append(_vendor_process_run(args.device, args.seconds, quiet))
+    return runs
 
 
 def run(args: argparse.Namespace) -> int:
@@ -67,8 +183,16 @@ def run(args: argparse.Namespace) -> int:
     config = ServoConfig(
         filter=FilterConfig(kind=args.filter), fluid=FluidConfig(force_scale=args.scale)
     )
-    simulation = None if args.idle_only else load_simulation()
     forms = ["thread", "process"] if args.form == "both" else [args.form]
+    if args.device != "sim":
+        runs = run_vendor(args, config, forms)
+        print(format_table(runs))
+        for r in runs:
+            if r.report.device_fault is not None:
+                print(f"{r.label}: the device stopped the loop: {r.report.device_fault}")
+        _print_verdict(runs, forms)
+        return 0
+    simulation = None if args.idle_only else load_simulation()
     print(
         f"haptics-check: simulated 6-DOF stylus, servo {' and '.join(forms)} at "
         f"{1 / config.tick_s:.0f} Hz, "
@@ -103,6 +227,11 @@ def run(args: argparse.Namespace) -> int:
     print(format_table(runs))
     if "process" in forms:
         print(bare_floor(args.seconds))
+    _print_verdict(runs, forms)
+    return 0
+
+
+def _print_verdict(runs: list[CheckRun], forms: list[str]) -> None:
     verdicts = []
     for form in forms:
         timings = [
@@ -110,8 +239,7 @@ def run(args: argparse.Namespace) -> int:
             for r in runs
             if r.report.timing is not None and r.label.startswith("process") == (form == "process")
         ]
-        worst = max(t.missed_deadlines / max(t.ticks, 1) for t in timings)
+        worst = max((t.missed_deadlines / max(t.ticks, 1) for t in timings), default=1.0)
         late = "late: more than 2 % of the scheduled ticks were missed"
         verdicts.append(f"{form} {'ok' if worst < 0.02 else late}")
     print(f"verdict: {'; '.join(verdicts)}")
-    return 0

@@ -4,7 +4,8 @@
 Paint with a pen tablet (pressure, tilt, twist) or the mouse on a canvas of viscous paint,
 simulated live; with a haptic device (``--device``) the brush is steered by the device and its
 force reaches the hand through the 1 kHz servo loop (``sim`` is a simulated hand that follows the
-pointer). A new canvas is A4 at 0.1 mm texels unless ``--canvas-size`` and ``--texel-mm`` say
+pointer; ``openhaptics[:NAME]``, ``dhd`` and ``haply[:ID]`` drive a 3D Systems Touch or Phantom, a
+Force Dimension device or Novint Falcon, a Haply Inverse3). A new canvas is A4 at 0.1 mm texels unless ``--canvas-size`` and ``--texel-mm`` say
 otherwise. Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
 for crash recovery. Press F1 in the window for the keyboard shortcuts.
 """
@@ -31,7 +32,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("canvas", nargs="?", type=Path, metavar="CANVAS.exr", help="canvas to open")
     parser.add_argument(
-        "--device", default="none", metavar="sim|hid:VID:PID|none", help="haptic device"
+        "--device",
+        default="none",
+        metavar="sim|hid:VID:PID|openhaptics|dhd|haply|none",
+        help="haptic device",
     )
     parser.add_argument("--scene", metavar="SCENE", help="painting scene: a name or a .toml file")
     parser.add_argument("--record", type=Path, metavar="S.jsonl", help="journal every stroke here")

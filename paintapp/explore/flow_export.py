@@ -40,9 +40,15 @@ class FlowFrames:
         h = g.cell_size_m
         origin = np.array(g.origin_m[:dim], dtype=float) + 0.5 * h
         return cls(
-            origin, np.full(dim, h), [], [], [], np.ones(g.cells[:dim], dtype=bool),
-            sim.fluid.density_kg_m3, sim.fluid.dynamic_viscosity_pa_s,
-        )  # fmt: skip
+            origin,
+            np.full(dim, h),
+            [],
+            [],
+            [],
+            np.ones(g.cells[:dim], dtype=bool),
+            sim.fluid.density_kg_m3,
+            sim.fluid.dynamic_viscosity_pa_s,
+        )
 
     def add(self, sim: Simulation) -> None:
         """Append ``sim``'s current state as a frame."""
@@ -99,13 +105,19 @@ def write_flow_vti(path: str | Path, frames: FlowFrames, index: int = -1) -> Non
 
     u = frames.velocity_m_s[index]
     u3 = np.stack([flat(u[a]) if a < dim else np.zeros(u[0].size) for a in range(3)], axis=1)
-    for name, values in (("p", flat(frames.pressure_pa[index])), ("U", u3),
-                         ("fluid", flat(frames.fluid.astype(np.float64)))):  # fmt: skip
+    for name, values in (
+        ("p", flat(frames.pressure_pa[index])),
+        ("U", u3),
+        ("fluid", flat(frames.fluid.astype(np.float64))),
+    ):
         array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float64), deep=True)
         array.SetName(name)
         image.GetPointData().AddArray(array)
-    for name, value in (("density", frames.density_kg_m3), ("viscosity", frames.viscosity_pa_s),
-                        ("TimeValue", frames.times_s[index])):  # fmt: skip
+    for name, value in (
+        ("density", frames.density_kg_m3),
+        ("viscosity", frames.viscosity_pa_s),
+        ("TimeValue", frames.times_s[index]),
+    ):
         field = vtkDoubleArray()
         field.SetName(name)
         field.InsertNextValue(float(value))

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import zipfile
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -131,10 +131,17 @@ def _from_npz(path: Path, overrides: FluidOverrides) -> SampledFlow:
     fluid = _fluid(arrays.get("fluid"), p.shape[1:], source)
     period = _scalar(arrays, "period", source)
     frame = Frame(
-        source, origin, spacing, p, u, fluid, None,
-        _scalar(arrays, "density", source), _scalar(arrays, "viscosity", source),
+        source,
+        origin,
+        spacing,
+        p,
+        u,
+        fluid,
+        None,
+        _scalar(arrays, "density", source),
+        _scalar(arrays, "viscosity", source),
         str(arrays["pressure_units"]) if "pressure_units" in arrays else None,
-    )  # fmt: skip
+    )
     return _build(frame, times, overrides, period)
 
 
@@ -158,11 +165,9 @@ def _from_frames(frames: list[Frame], overrides: FluidOverrides, source: str) ->
                 source=source,
                 key="TimeValue",
             )
-    merged = Frame(
-        source, first.origin, first.spacing,
-        np.concatenate([f.pressure for f in frames]), np.concatenate([f.velocity for f in frames]),
-        first.fluid, None, first.density, first.viscosity, first.pressure_units,
-    )  # fmt: skip
+    pressure = np.concatenate([f.pressure for f in frames])
+    velocity = np.concatenate([f.velocity for f in frames])
+    merged = replace(first, source=source, pressure=pressure, velocity=velocity, time_s=None)
     return _build(merged, times, overrides)
 
 
@@ -217,9 +222,16 @@ def _build(
         )
     pressure = frame.pressure * (density if units == "m2/s2" else 1.0)
     return SampledFlow(
-        frame.origin, frame.spacing, times, pressure, frame.velocity, density, viscosity,
-        frame.fluid, period,
-    )  # fmt: skip
+        frame.origin,
+        frame.spacing,
+        times,
+        pressure,
+        frame.velocity,
+        density,
+        viscosity,
+        frame.fluid,
+        period,
+    )
 
 
 def _given(override: float | None, stated: float | None, source: str, key: str, unit: str) -> float:

@@ -130,9 +130,13 @@ def _columns(header: list[str], dim: int, source: str) -> dict[str, list[str]]:
 
 
 def _orientations(
-    values: np.ndarray, header: list[str], columns: dict[str, list[str]], dim: int,
-    source: str, lines: list[int],
-) -> np.ndarray:  # fmt: skip
+    values: np.ndarray,
+    header: list[str],
+    columns: dict[str, list[str]],
+    dim: int,
+    source: str,
+    lines: list[int],
+) -> np.ndarray:
     n = len(values)
     if not columns["orientation"]:
         return np.zeros(n) if dim == 2 else np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))

@@ -37,11 +37,17 @@ def read_vtk_frame(path: Path) -> Frame:
         fluid = fluid.reshape(nodes)
     fields = _field_data(data)
     return Frame(
-        source, origin[:dim], spacing[:dim], pressure.reshape(1, *nodes),
-        velocity.reshape(1, dim, *nodes), fluid,
-        fields.get("TimeValue"), fields.get("density"), fields.get("viscosity"),
+        source,
+        origin[:dim],
+        spacing[:dim],
+        pressure.reshape(1, *nodes),
+        velocity.reshape(1, dim, *nodes),
+        fluid,
+        fields.get("TimeValue"),
+        fields.get("density"),
+        fields.get("viscosity"),
         fields.get("pressure_units"),
-    )  # fmt: skip
+    )
 
 
 def _read(path: Path) -> Any:
@@ -113,9 +119,13 @@ def _arrays(data: Any) -> tuple[dict[str, Any], bool]:
 
 
 def _field(
-    arrays: dict[str, Any], names: tuple[str, ...], components: int, dims: np.ndarray,
-    source: str, key: str,
-) -> np.ndarray:  # fmt: skip
+    arrays: dict[str, Any],
+    names: tuple[str, ...],
+    components: int,
+    dims: np.ndarray,
+    source: str,
+    key: str,
+) -> np.ndarray:
     name = next((n for n in names if n in arrays), None)
     if name is None:
         raise InputError(

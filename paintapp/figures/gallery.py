@@ -132,9 +132,11 @@ def _demo(before: bool) -> np.ndarray:
     strokes = read_strokes(asset_path("strokes", "demo.jsonl"))
     with tempfile.TemporaryDirectory() as tmp:
         result = replay(
-            strokes, _scene(strokes.header.scene or "default", before),
-            brush_dir=_brush_dir(before, Path(tmp)), device="tablet",
-        )  # fmt: skip
+            strokes,
+            _scene(strokes.header.scene or "default", before),
+            brush_dir=_brush_dir(before, Path(tmp)),
+            device="tablet",
+        )
     return _crop(result.canvas, _picture(result.canvas), DEMO_CROP_M)
 
 

@@ -116,13 +116,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--out", required=True, metavar="F.png", help="PNG file to write")
     p.add_argument(
-        "--cells", type=int, nargs="+", default=list(DEFAULT_CELLS),
+        "--cells",
+        type=int,
+        nargs="+",
+        default=list(DEFAULT_CELLS),
         help="grid sizes, cells per side (default 32 64 128)",
-    )  # fmt: skip
+    )
     p.add_argument(
-        "--methods", nargs="+", choices=METHODS, default=list(METHODS),
+        "--methods",
+        nargs="+",
+        choices=METHODS,
+        default=list(METHODS),
         help="boundary methods, side by side (default staircase cutcell)",
-    )  # fmt: skip
+    )
     p.set_defaults(func=_run)
 
 

@@ -17,10 +17,14 @@ import argparse
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from common.errors import InputError
+
+if TYPE_CHECKING:  # the painting side loads only when the figure is made
+    from paintapp.paint.paint_scene import FollowKind, SideKind
 
 RED = "cadmium_red"
 TEXEL_M = 1e-4
@@ -31,7 +35,7 @@ PAINTED = (slice(30, 170), slice(20, 540))
 START_M, END_M, DURATION_S = (0.006, 0.01), (0.05, 0.01), 0.044 / 0.076
 MIDDLE = slice(250, 450)
 #: The four grids: label, sides, lateral cells, span (brush widths), how they follow the tip.
-CASES = (
+CASES: tuple[tuple[str, SideKind, int, float, FollowKind], ...] = (
     ("slip walls, 32 cells, by cells", "slip", 32, 2.0, "cells"),
     ("slip walls, 32 cells, following", "slip", 32, 2.0, "continuous"),
     ("open sides, 32 cells", "open", 32, 2.0, "cells"),
@@ -65,15 +69,23 @@ class DragResult:
         return np.sqrt(np.mean(np.diff(self.middle(), axis=0) ** 2, axis=0))
 
 
-def drag(label: str, sides: str, cells: int, span: float, follow: str = "cells") -> DragResult:
+def drag(
+    label: str, sides: SideKind, cells: int, span: float, follow: FollowKind = "cells"
+) -> DragResult:
     """Drag the probe through the wet red with the given grid (module docstring)."""
     from brushes import StylusSample
     from paintapp.canvas.model import Canvas
     from paintapp.paint.paint_scene import load_paint_scene
     from paintapp.session.painting import PaintingSession, paint_inventory
 
-    scene = dataclasses.replace(load_paint_scene("default"), sides=sides, cells=(cells, cells, 12),
-                                span=span, margin_cells=cells // 2 - 1, follow=follow)  # fmt: skip
+    scene = dataclasses.replace(
+        load_paint_scene("default"),
+        sides=sides,
+        cells=(cells, cells, 12),
+        span=span,
+        margin_cells=cells // 2 - 1,
+        follow=follow,
+    )
     w, h = CANVAS
     layer = np.zeros((1, h, w), np.float32)
     layer[(0, *PAINTED)] = 5e-4

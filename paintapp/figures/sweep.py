@@ -35,11 +35,15 @@ def plot(data: SweepFigureData, out: str) -> None:
     t = tr.time_s
     fig, axes = plt.subplots(3, 1, figsize=(8.0, 8.5), sharex=True)
     rows = [
-        (data.drag, "drag force (N/m)\nalong the motion", np.linalg.norm(tr.velocity, axis=1),
-         "speed (m/s)"),
+        (
+            data.drag,
+            "drag force (N/m)\nalong the motion",
+            np.linalg.norm(tr.velocity, axis=1),
+            "speed (m/s)",
+        ),
         (data.perpendicular, "perpendicular force (N/m)", None, None),
         (tr.torque, "torque (N m/m)", tr.omega, "spin (rad/s)"),
-    ]  # fmt: skip
+    ]
     for ax, (y, label, motion, motion_label) in zip(axes, rows, strict=True):
         mark_phases(ax)
         ax.plot(t, y, color="tab:blue", lw=0.7, label="unfiltered")

@@ -7,37 +7,14 @@ measures the real time each tick's work takes, which is how the cost of one tick
 
 :class:`RealTimeClock` sleeps until shortly before each deadline and spins the rest of the way.
 
-Thread or process? Measured on the 2-core development machines (their cores shared with other
-jobs, so each figure is a range over two or three 3 s runs): lateness of each tick's start for a
-1 kHz Python loop beside a second thread doing the session's kind of work.
-
-=========================================  ==========  ==========  ===========  ==============
-other thread                               p50 (ms)    p99 (ms)    p99.9 (ms)   late > 1 tick
-=========================================  ==========  ==========  ===========  ==============
-none                                       0.000       0.00-2.8    0.5-5.8      0-2.2 %
-numpy (FFTs, array arithmetic)             0.000       0.00-8.1    0.3-11.8     0-28 %
-numba ``nogil`` stencil kernels            0.000       0.00-7.0    1.2-9.0      0.2-32 %
-pure Python, switch interval 5 ms          3.0-3.9     5.1-13.0    6.8-18.0     83-86 %
-pure Python, switch interval 0.5 ms        0.45        0.65-8.0    1.7-11.4     0.7-18 %
-the 3D solver (sphere_stir_3d), 5 ms       0.000       2.9-3.8     3.9-5.9      2.8-7.1 %
-the 3D solver, switch interval 0.5 ms      0.000       0.05-2.4    1.9-4.3      0.3-2.1 %
-=========================================  ==========  ==========  ===========  ==============
-
-The same loop in a separate *process* beside the solver: p99 0.0-0.4 ms, p99.9 1.2-2.6 ms,
-0.2-0.6 % late; beside pure Python p50 0.000, p99 3.1-6.9 ms; beside numpy/numba no better than
-the thread (p99 1.7-6.8 ms). The wide ranges come from the scheduler handing both cores to other
-jobs, which no choice here avoids. The GIL shows only where the neighbour runs Python for a
-stretch: the interpreter hands the GIL over once per switch interval (5 ms by default), which is
-why the solver's Python glue between its ``nogil`` kernels costs the thread a few milliseconds.
-
-Decision, first: a thread, with the interpreter's switch interval lowered to 0.5 ms while it
-runs. In the painting window that did not hold: beside the GUI (llvmpipe rendering) and the
-simulation worker the thread reached 635 Hz with lateness p99 8.4 ms and a 1.3 s stall
-(``benchmarks/bench_app.py --device sim``). So the window now runs the loop in a process of its
-own (:mod:`paintapp.haptics.process`, shared memory through :mod:`paintapp.haptics.shared_state`,
-``SCHED_FIFO`` and a pinned core where granted: :mod:`paintapp.haptics.realtime`), where it
-keeps 1 kHz with p99 lateness under 0.1 ms on the same machines; the thread form stays for
-tests, ``haptics-check --form thread`` and as the fallback when no process can be started.
+Thread or process: a thread's ticks are late wherever a neighbour thread runs Python for a
+stretch, since the interpreter hands the GIL over once per switch interval (5 ms by default);
+:class:`RealTimeClock` lowers the interval while it runs. Beside the GUI and the simulation
+worker that is still not enough, so the painting window runs the loop in a process of its own
+(:mod:`paintapp.haptics.process`, shared memory through :mod:`paintapp.haptics.shared_state`,
+``SCHED_FIFO`` and a pinned core where granted: :mod:`paintapp.haptics.realtime`). The thread
+form serves tests, ``haptics-check --form thread`` and the fallback when no process can start.
+The measurements behind the choice are in ``docs/performance.md``.
 """
 
 from __future__ import annotations

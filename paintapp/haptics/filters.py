@@ -1,42 +1,36 @@
 """Reconstruction filters: from irregular simulation samples to a 1 kHz force signal.
 
 The simulation delivers force samples at its own, unsteady rate (30-200 Hz); the servo loop needs
-a value every tick. Each filter here takes samples with :meth:`ReconstructionFilter.push` (the
-time a sample arrived and its value) and is asked once per servo tick for its output with
-:meth:`ReconstructionFilter.output`. Values are vectors (force and torque stacked: shape (6,)).
+a value every tick. A filter takes samples with :meth:`ReconstructionFilter.push` (arrival time,
+value) and gives one output per servo tick with :meth:`ReconstructionFilter.output`. Values are
+vectors (force and torque stacked: shape (6,)).
 
-Delay each filter adds, from the moment a sample is published, for samples published every ``T``
-seconds at random phase to the servo ticks of ``dt`` (the loop stamps a sample with the time of
-the tick that first sees it, up to one tick after it was published):
+Delay each filter adds (lag of a ramp), for samples published every ``T`` seconds at random phase
+to servo ticks of ``dt`` (a sample is stamped with the tick that first sees it):
 
-=================== ============================ ============================================
-filter              delay (lag of a ramp)        why
-=================== ============================ ============================================
-zero-order hold     ``T/2`` on average           holds each value for one period (0 to T)
-linear              ``T + dt/2``                 interpolates between the last two samples,
-                                                 so it is one sample behind (plus the wait
-                                                 for the tick, dt/2 on average)
-FIR window          ``T/2 + (N-1)/2 * dt``       zero-order hold, then a linear-phase FIR of
-                                                 N = order + 1 taps at the tick rate
-=================== ============================ ============================================
+- zero-order hold: ``T/2`` on average (each value held for one period);
+- linear: ``T + dt/2`` (interpolates between the last two samples: one sample behind);
+- FIR window: ``T/2 + (N-1)/2 * dt`` (the hold, then a linear-phase FIR of N = order + 1 taps).
 
 The paper's choice (section 4.2) is the FIR window filter with a 10th-order Bartlett-Hanning
-window: at 1 kHz it adds 5 ms to the hold's T/2 and turns each step of the held signal into a
-smooth 10 ms transition. By default the normalized window itself is the impulse response (unit DC
-gain, so the mean force is kept); with ``cutoff_hz`` the taps are a windowed-sinc low-pass from
-:func:`scipy.signal.firwin` instead.
+window: at 1 kHz it turns each step of the held signal into a smooth 10 ms transition. By default
+the normalized window is the impulse response (unit DC gain: the mean force is kept); with
+``cutoff_hz`` the taps are a windowed-sinc low-pass from :func:`scipy.signal.firwin`.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 
 from common.errors import InputError
 
-FILTER_KINDS = ("zoh", "linear", "fir")
+#: The reconstruction filters by name: zero-order hold, linear interpolation, FIR window.
+FilterKind = Literal["zoh", "linear", "fir"]
+FILTER_KINDS: tuple[FilterKind, ...] = get_args(FilterKind)
 
 
 class ReconstructionFilter(ABC):
@@ -210,10 +204,16 @@ class FirWindowFilter(ReconstructionFilter):
 class FilterConfig:
     """Which reconstruction filter the servo loop uses, and its FIR parameters."""
 
-    kind: str = "fir"
+    kind: FilterKind = "fir"
     order: int = 10
     window: str | tuple = "barthann"
     cutoff_hz: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in FILTER_KINDS:
+            raise InputError(
+                f"expected one of {', '.join(FILTER_KINDS)}, got {self.kind!r}", key="kind"
+            )
 
     def build(self, tick_s: float = 1e-3, dim: int = 6) -> ReconstructionFilter:
         """A fresh filter of this configuration for a servo period of ``tick_s`` seconds."""

@@ -1,36 +1,20 @@
 """The servo loop in a process of its own, owning the device; the app talks to it through shared memory.
 
-The app side is :class:`ServoProcess`; the child runs :func:`child_main`. Started with the
-``spawn`` method, the child imports only this package (numpy and scipy's windows; no Qt, numba, GL
-or solver), builds the device itself from a text description (``sim``, ``sim:stroke`` or
-``hid:VID:PID[:stylus|pid]``: HID handles cannot cross processes), and runs the same
-:class:`~paintapp.haptics.servo.ServoLoop` on a :class:`~paintapp.haptics.clock.RealTimeClock`
-after asking for real-time treatment (:mod:`paintapp.haptics.realtime`).
+The app side is :class:`ServoProcess`; the ``spawn``-started child runs :func:`child_main`: it
+imports no Qt, numba, GL or solver, builds the device from its text description (HID handles
+cannot cross processes) and runs the :class:`~paintapp.haptics.servo.ServoLoop` on a
+:class:`~paintapp.haptics.clock.RealTimeClock` with real-time treatment where granted.
 
-What goes where (:mod:`paintapp.haptics.shared_state`): the latest force sample, the latest
-device state, the simulated hand's target, the app's heartbeat, the tick-timing ring and the
-device-write audit live in one shared-memory block (seqlocks, nobody waits); commands (force scale,
-engage, stop) go down a :class:`multiprocessing.Queue` the child polls every
-:data:`COMMAND_EVERY` ticks without blocking; events (ready, device fault, leaving, the final
-report) come back up a pipe.
+State crosses in shared memory (:mod:`paintapp.haptics.shared_state`, seqlocks, nobody waits);
+commands go down a queue polled every :data:`COMMAND_EVERY` ticks, events come up a pipe. Every
+device write passes the :class:`GatedDevice` (fade gain; non-finite and over-limit writes are
+counted into the shared audit and must stay zero). Fail-safe exits:
 
-Fail-safe exits:
-
-- the app dies (its pid is no longer the child's parent) or stops beating for
-  ``heartbeat_timeout_s`` once it has armed the watchdog (at once, or, with ``arm_at_start``
-  False, when :meth:`ServoProcess.arm` says its start-up is over: the painting window's first
-  frame compiles its shaders while holding the interpreter lock, 4.7 s on a cold shader cache,
-  and a new installation's first warm-up compiles the kernels, with stalls of half a second;
-  no heartbeat can run meanwhile; unarmed after ``arm_timeout_s`` counts as gone too): no more
-  force samples arrive, so the fluid watchdog has already faded the fluid force; the canvas
-  contact stays on while the whole output fades to zero over ``exit_fade_s``; then zero force is written, the device closed and the child exits;
-- a ``stop`` command or SIGTERM: the same fade, then exit;
-- the device fails: the loop stops with zero force as in a thread (the fault is sent up);
-- the child dies: :attr:`ServoProcess.fault` says so (the window journals it and paints on with
-  the pointer).
-
-Every write the device receives passes the :class:`GatedDevice`, which applies the fade gain and
-counts non-finite and over-limit writes into the shared audit (they must stay zero).
+- the app dies or stops beating for ``heartbeat_timeout_s`` once it has armed the watchdog (at
+  once, or at :meth:`ServoProcess.arm`, after start-up stalls no heartbeat can cover; unarmed
+  after ``arm_timeout_s`` counts as gone): the output fades to zero over ``exit_fade_s``;
+- a ``stop`` command or SIGTERM: the same fade; a device failure: zero force, the fault sent up;
+- the child dies: :attr:`ServoProcess.fault` says so.
 """
 
 from __future__ import annotations
@@ -83,12 +67,12 @@ class ProcessOptions:
 
     Attributes:
         device: ``sim`` (the simulated hand follows the shared target), ``sim:stroke`` (it follows
-            its built-in circle), or ``hid:VID:PID[:stylus|pid]``.
+            its built-in circle), ``hid:VID:PID[:stylus|pid]``, or a vendor backend
+            (``openhaptics[:NAME]``, ``dhd``, ``haply[:ID]``: :mod:`~paintapp.haptics.devices.backends`).
         config: the servo loop's configuration.
         realtime: ask for real-time priority, a pinned core, GC off, locked memory.
         pin: pin to a core (with ``realtime``) when there are several.
-        heartbeat_timeout_s: the app counts as gone after this long without a heartbeat (once
-            the watchdog is armed).
+        heartbeat_timeout_s: the app is gone after this long without a heartbeat (once armed).
         arm_at_start: the heartbeat watchdog counts from the start; False: from the app's
             :meth:`ServoProcess.arm` (until then only the app's exit ends the child).
         arm_timeout_s: with ``arm_at_start`` False, the app counts as gone if it has not armed
@@ -123,11 +107,9 @@ class ProcessOptions:
 
 #: The clock's spin before each deadline with a real-time scheduling class, and without one, s.
 #: A real-time task wakes within tens of microseconds of its deadline (no timer slack, nothing of
-#: lower class runs first): on a 2-core machine, `benchmarks/bench_app.py --device sim`, six
-#: rounds each, no spin against 200 us gave the painting window's simulation 81 % of its headless
-#: rate against 72 % (the spin is a fifth of a core, on the core beside the simulation's) at a
-#: servo lateness p99 of 0.09-0.42 ms against 0.00-0.03 (target 0.5). Without real-time priority
-#: a wake-up can come later, and the spin stays.
+#: lower class runs first), well inside the lateness target, and a spin would take a share of the
+#: core beside the simulation's. Without real-time priority a wake-up can come later, and the spin
+#: stays.
 REALTIME_SPIN_S = 0.0
 NORMAL_SPIN_S = 2e-4
 
@@ -153,7 +135,14 @@ def build_device(text: str, time_source: Any, target: SharedTarget | None) -> Ha
         vid, pid = parse_ids(f"{parts[1]}:{parts[2]}")
         protocol = parts[3] if len(parts) == 4 else "stylus"
         return HidDevice(lambda: open_hid(vid, pid), protocol, time_source)
-    raise DeviceNotFoundError(f"unknown device {text!r} (sim, sim:stroke or hid:VID:PID)")
+    from paintapp.haptics.devices.backends import VENDOR_SYNTAX, build_vendor_device, split_device
+
+    vendor = split_device(text)
+    if vendor is not None:
+        return build_vendor_device(vendor[0], vendor[1], time_source)
+    raise DeviceNotFoundError(
+        f"unknown device {text!r} (sim, sim:stroke, hid:VID:PID or {VENDOR_SYNTAX})"
+    )
 
 
 class GatedDevice:

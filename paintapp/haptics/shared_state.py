@@ -1,22 +1,17 @@
 """Lock-free latest-value records in shared memory, between the app and the servo process.
 
-The servo loop runs in its own process (:mod:`paintapp.haptics.process`); the app and that process
-exchange only latest values, through one :class:`SharedBlock` (a
-:class:`multiprocessing.shared_memory.SharedMemory` segment laid out as fixed float64/int64 arrays):
+The servo loop runs in its own process (:mod:`paintapp.haptics.process`); it and the app exchange
+only latest values, through one :class:`SharedBlock` (a shared-memory segment laid out as fixed
+float64/int64 arrays): the latest force sample (app -> servo) and device state (servo -> app),
+each a :class:`SeqlockRecord`; the simulated hand's target and the app's heartbeat (app ->
+servo); the tick-timing ring the HUD reads and the device-write audit (servo -> app).
 
-- the latest force sample (app -> servo) and the latest device state (servo -> app), each a
-  :class:`SeqlockRecord`: one writer, any number of readers, nobody ever waits on a lock;
-- the simulated hand's target (app -> servo), the app's heartbeat (app -> servo);
-- the tick-timing ring the HUD reads and the device-write audit (servo -> app).
-
-Seqlock: the writer makes the version odd, writes the values, makes it even again; a reader copies
-the values between two reads of the version and keeps the copy only if both reads are the same
-even number. A reader retries a bounded number of times and otherwise reports "no new value", so a
-writer killed mid-write (its version stuck odd) can never stall a reader; the servo loop then
-simply keeps the last value it had (and its watchdog fades the force). The stores are plain
-numpy stores; x86-64 keeps stores and loads in program order, which is all a seqlock needs from
-the hardware (on weakly ordered CPUs a torn read is possible in principle and shows up as one
-stale or mixed sample, which the servo loop's checks treat like any other sample).
+Seqlock: one writer makes the version odd, writes the values, makes it even again; a reader
+copies the values between two reads of the version and keeps the copy only if both are the same
+even number. Nobody waits on a lock: a reader retries a bounded number of times and otherwise
+reports "no new value", so a writer killed mid-write cannot stall it (the servo loop keeps its
+last value and its watchdog fades the force). Plain numpy stores suffice on x86-64 (program
+order); on weakly ordered CPUs a torn read is one stale or mixed sample, checked like any other.
 
 :class:`SharedForceChannel` and :class:`SharedStateChannel` give these records the interface of
 :class:`~paintapp.haptics.channel.ForceChannel` and :class:`~paintapp.haptics.channel.StateChannel`,

@@ -3,27 +3,24 @@
 The paint grid's columns are a cell wide (several texels), far coarser than a brush's bristle
 clumps, so the clumps act where the columns trade paint with the texels
 (:meth:`paintapp.paint.columns.ColumnWindow.write_back`): a column's gain is laid down with its
-weights times a *gain weight* per texel, and its loss taken with its weights times a
-*loss weight*, each normalised per column, so the texture only moves paint within a column's reach
-and paint stays conserved to round-off.
+weights times a *gain weight* per texel, its loss taken with its weights times a *loss weight*,
+each normalised per column, so the texture only moves paint within a column's reach and paint
+stays conserved to round-off.
 
-The weights (:class:`brushes.bristles.Bristles`) are profiles across the tip's direction of
-motion: the footprint of the tip (its cut at half the commanded depth, as the stamp and the
-depth-averaged models use, turned by its yaw) is measured across the motion, and each texel gets
-its position ``u`` in [-1, 1] over that width. Inside the footprint and one cell around it (where
-the brush deposits) the weights follow the profiles; elsewhere they are even. As the brush moves,
-each clump keeps its ``u`` and so draws a streak along the stroke, and the ridge profile heaps
-paint along both sides.
-
-Only the tip's footprint is shape code (its signed distance, on the texels within its reach,
-which :func:`near_points` lists); the rest is one kernel pass over the box
-(:func:`texture_weights`), with the profiles tabulated (:func:`profile_tables`).
+The weights (:class:`brushes.bristles.Bristles`) are profiles across the tip's motion: each texel
+gets its position ``u`` in [-1, 1] across the tip's footprint (its cut at half the commanded
+depth, turned by its yaw). Inside the footprint and one cell around it the weights follow the
+profiles, elsewhere they are even; each clump keeps its ``u`` and draws a streak along the stroke.
+Only the footprint is shape code (its signed distance on the texels :func:`near_points` lists);
+the rest is one kernel pass over the box (:func:`texture_weights`), the profiles tabulated
+(:func:`profile_tables`).
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -36,6 +33,38 @@ from solver import inline_kernel, kernel
 #: canvas can hold it: the texels sample it without a jagged, beaded line along a stroke that
 #: runs across their rows.
 ANTIALIAS_TEXELS = 0.5
+
+
+class Apex(NamedTuple):
+    """Where the tip stands over the canvas texels, as the kernels take it."""
+
+    #: Canvas texel size (m).
+    texel: float
+    #: The apex on the canvas (m).
+    cx: float
+    cy: float
+    #: Cosine and sine of the tip's yaw (body x from canvas +x).
+    cos: float
+    sin: float
+
+
+class Across(NamedTuple):
+    """The unit direction (ax, ay) across the tip's motion, and the footprint's extent along
+    it, ``lo`` to ``hi`` (m from the apex; :func:`footprint_across`)."""
+
+    ax: float
+    ay: float
+    lo: float
+    hi: float
+
+
+class FootprintSdf(NamedTuple):
+    """The footprint's signed distance (m) ``sdf`` (ny, nx) on the texels of a sub-box whose
+    first texel is (x0, y0); inf where not evaluated."""
+
+    sdf: np.ndarray
+    x0: int
+    y0: int
 
 
 def profile_tables(bristles: Bristles, blur: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -66,11 +95,11 @@ def _lookup(table, u):
 
 
 @kernel
-def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, index):
+def near_points(apex, radius_sq, sx0, sy0, nx, ny, body, index):
     """The texels of the (ny, nx) box at (sx0, sy0) whose centres lie within ``sqrt(radius_sq)``
-    of the apex (cx, cy) (m), row by row: their centres in the footprint's body frame (turned by
-    the yaw's ``cos`` and ``sin``) into ``body`` and their flat indices in the box into
-    ``index``; returns how many."""
+    of the :class:`Apex`, row by row: their centres in the footprint's body frame (turned by the
+    yaw) into ``body`` and their flat indices in the box into ``index``; returns how many."""
+    texel, cx, cy, cos, sin = apex
     count = 0
     for y in range(ny):
         gy = (sy0 + y + 0.5) * texel - cy
@@ -85,10 +114,12 @@ def near_points(sx0, sy0, texel, cx, cy, cos, sin, radius_sq, nx, ny, body, inde
 
 
 @kernel
-def footprint_across(texel, cx, cy, ax, ay, sdf, sx0, sy0):
-    """(lowest, highest) position across the motion (m from the apex (cx, cy), along the unit
-    (ax, ay)) of the texel centres inside the footprint, whose signed distance (m) ``sdf`` is
-    given on the texels of a sub-box at (sx0, sy0); (inf, -inf) when it covers none."""
+def footprint_across(apex, ax, ay, footprint):
+    """(lowest, highest) position across the motion (m from the :class:`Apex`, along the unit
+    (ax, ay)) of the texel centres inside the footprint (a :class:`FootprintSdf`); (inf, -inf)
+    when it covers none."""
+    texel, cx, cy = apex.texel, apex.cx, apex.cy
+    sdf, sx0, sy0 = footprint
     sny, snx = sdf.shape
     a_lo, a_hi = np.inf, -np.inf
     for y in range(sny):
@@ -101,13 +132,17 @@ def footprint_across(texel, cx, cy, ax, ay, sdf, sx0, sy0):
 
 
 @kernel
-def texture_weights(x0, y0, texel, cx, cy, ax, ay, reach, sdf, sx0, sy0, a_lo, a_hi, gain_table,
-                    loss_table, gain, loss):  # fmt: skip
-    """Fill ``gain`` and ``loss`` (ny, nx) over the box whose first texel is (x0, y0): see
-    :meth:`BristleTexture.weights`. ``sdf`` is the footprint's signed distance (m) on the texels
-    of a sub-box at (sx0, sy0) (inf where not evaluated; texels outside it are farther than the
-    texture reaches); (ax, ay) is the unit direction across the motion, (cx, cy) the apex (m),
-    ``a_lo`` and ``a_hi`` the footprint's extent across it (:func:`footprint_across`)."""
+def texture_weights(x0, y0, apex, across, reach, footprint, tables, out):
+    """Fill ``out`` = (gain, loss) (ny, nx) over the box whose first texel is (x0, y0), from the
+    profile ``tables`` = (gain, loss) (:func:`profile_tables`): see
+    :meth:`BristleTexture.weights`. ``footprint`` (a :class:`FootprintSdf`) is evaluated on the
+    texels within the texture's ``reach`` (m) of it, texels outside it are farther; ``apex`` and
+    ``across``: :class:`Apex`, :class:`Across`."""
+    texel, cx, cy = apex.texel, apex.cx, apex.cy
+    ax, ay, a_lo, a_hi = across
+    sdf, sx0, sy0 = footprint
+    gain_table, loss_table = tables
+    gain, loss = out
     ny, nx = gain.shape
     sny, snx = sdf.shape
     span = max(a_hi - a_lo, texel)
@@ -194,20 +229,23 @@ class BristleTexture:
         shape = (sy1 - sy0, sx1 - sx0)
         body = np.empty((shape[0] * shape[1], 2))
         index = np.empty(shape[0] * shape[1], np.int64)
-        count = near_points(sx0, sy0, t, float(c[0]), float(c[1]), self.cos, self.sin,
-                            radius**2, shape[1], shape[0], body, index)  # fmt: skip
+        apex = Apex(t, float(c[0]), float(c[1]), self.cos, self.sin)
+        count = near_points(apex, radius**2, sx0, sy0, shape[1], shape[0], body, index)
         if count == 0:
             return None
         sdf = np.full(shape, np.inf)
         sdf.reshape(-1)[index[:count]] = self.footprint.sdf(body[:count])
         ax, ay = float(self.across[0]), float(self.across[1])
-        a_lo, a_hi = footprint_across(t, float(c[0]), float(c[1]), ax, ay, sdf, sx0, sy0)
+        footprint = FootprintSdf(sdf, sx0, sy0)
+        a_lo, a_hi = footprint_across(apex, ax, ay, footprint)
         if a_hi < a_lo:
             return None
         # the streaks no narrower than the texels can hold (u spans the width over 2)
         blur = ANTIALIAS_TEXELS * t * 2.0 / max(a_hi - a_lo, t)
         gain_table, loss_table = profile_tables(self.bristles, blur)
         gain, loss = np.empty((y1 - y0, x1 - x0)), np.empty((y1 - y0, x1 - x0))
-        texture_weights(x0, y0, t, float(c[0]), float(c[1]), ax, ay, self.reach_m, sdf, sx0, sy0,
-                        a_lo, a_hi, gain_table, loss_table, gain, loss)  # fmt: skip
+        across = Across(ax, ay, a_lo, a_hi)
+        texture_weights(
+            x0, y0, apex, across, self.reach_m, footprint, (gain_table, loss_table), (gain, loss)
+        )
         return gain, loss

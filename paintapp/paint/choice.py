@@ -1,31 +1,21 @@
 """Model only what the scene requires: the choice of paint model, grid and outputs per sample.
 
-:class:`ModelSelector` decides, for every stylus sample in contact, the least model that serves
-the scene (``PaintScene.choose``, :class:`~paintapp.paint.paint_scene.ModelChoice`), and logs each
-decision with its reason. The rules, in order:
+:class:`ModelSelector` picks, per sample in contact, the least model that serves the scene
+(:class:`~paintapp.paint.paint_scene.ModelChoice`), logging each decision's reason. In order:
 
-1. **Air.** A brush in the air takes no step at all (the session never calls a model then).
-2. **Dry brush** (``dry_brush``). At touch-down, an empty brush over a window with no wet paint
-   (every texel's wetness is exactly 0) runs no fluid: the step is empty and the force zero.
-   Nothing could change -- there is no paint to move or lay -- so the canvas is the same as
-   with a fluid. The fluid starts (at rest) as soon as wet paint enters the window or the brush
-   holds paint; once started it runs until the brush lifts.
-3. **Fluid model.** The scene's ``fluid_model``; ``auto`` chooses by the *paint layer* under the
-   brush, the mean wet paint thickness over the texels with wet paint within the tip's contact
-   radius (:func:`paintapp.paint.fit.section_radius_m`): at touch-down ``depth_averaged`` if the
-   layer is thinner than ``thin_below_m``, else ``grid3d``; in contact the 3D grid hands over to
-   the depth-averaged one when the layer falls below ``thin_below_m``, and back when it grows
-   above ``thick_above_m`` (hysteresis: no flapping in between). A switch starts the new grid at
-   rest; the paint itself lives on the canvas, so none is lost.
-4. **Grid size** (``fit_grid``): :mod:`paintapp.paint.fit`; refitted when the brush leans past
-   what the fit allowed.
-5. **Outputs.** :class:`~paintapp.paint.paint_model.ForceNeeds` from the device: no force work at
-   all for an input-only device, no torque for a device without torque output.
-6. **Pigment channels** (``used_pigments``): only those in the window or the brush, per step
-   (in the models).
-7. **Inertia** (``stokes_below_re``): a solver step leaves out the fluid's momentum advection
-   while the paint's Reynolds number at the tip is below this (creeping flow; per step, in the
-   models: :meth:`~paintapp.paint.paint_model.PaintModel.step_settings`).
+1. **Air**: no step at all.
+2. **Dry brush** (``dry_brush``): an empty brush touching down where no texel is wet runs no
+   fluid (zero force; nothing could change). The fluid starts at rest once wet paint enters the
+   window or the brush holds paint, and runs until the brush lifts.
+3. **Fluid model**: the scene's; ``auto`` touches down ``depth_averaged`` where the mean wet layer
+   within the tip's contact radius is under ``thin_below_m``, else ``grid3d``, and switches below
+   ``thin_below_m`` and above ``thick_above_m``. A new grid starts at rest (no paint is lost).
+4. **Grid size** (``fit_grid``): :mod:`paintapp.paint.fit`, refitted when the brush leans past it.
+5. **Outputs**: :class:`~paintapp.paint.paint_model.ForceNeeds` from the device (no force work for
+   an input-only device, no torque for one without torque output).
+6. **Pigment channels** (``used_pigments``): only those in the window or the brush.
+7. **Inertia** (``stokes_below_re``): no momentum advection while the tip's Reynolds number is
+   below it (:meth:`~paintapp.paint.paint_model.PaintModel.step_settings`).
 """
 
 from __future__ import annotations

@@ -1,39 +1,21 @@
 """Where the local paint grid lies on the canvas, and moving paint between its columns and texels.
 
-The grid's cells are cubes of ``h = k * texel`` (a whole number ``k`` of canvas texels), and their
-columns sit on a lattice of ``k x k`` texel blocks fixed to the canvas (block corners at multiples
-of ``k`` texels), so re-centring the grid by whole cells keeps every column on the same texels. A
-window that follows the tip continuously has its corner anywhere, between texels; the weights
-below stay a partition of unity and sum to ``k`` over a column's texels at any offset.
-``k`` is chosen so that the grid spans ``span`` brush widths (:func:`cell_texels`).
+The grid's cells are cubes of ``h = k * texel`` (``k`` whole, :func:`cell_texels`); re-centring by
+whole cells keeps each column on the same ``k x k`` texel block, and a window that follows the tip
+continuously has its corner anywhere: the weights stay a partition of unity at any offset.
 
 Paint in the grid is the *wet* (mobile) part of the canvas paint: a texel with paint ``P_p``
 (metres, per pigment) and wetness ``w`` holds ``w P_p`` of mobile paint; the rest is dry and stays
 put. Columns and texels trade paint through a quadratic B-spline kernel, the same both ways: a
-texel at distance ``(dx, dy)`` texels from a column's centre has weight ``B(dx / k) B(dy / k)``
-with ``B(t) = 3/4 - t^2`` for ``|t| <= 1/2``, ``(3/2 - |t|)^2 / 2`` for ``1/2 < |t| < 3/2``, 0
-beyond, so a column reaches a cell and a half beyond its centre and the weights of the columns at
-a texel sum to 1 (a partition of unity; over a column's texels they sum to ``k`` per axis,
-exactly, for any whole ``k``). :meth:`ColumnWindow.gather` gives each column its weighted mobile
-paint over its area ``k^2``; :meth:`ColumnWindow.write_back` lays a column's gain down with its
-weights (as fresh, fully wet paint) and takes a loss as the same fraction of the weighted mobile
-paint of every texel in its support. A box spread (each column's change evenly over its own
-block) printed the ``k``-texel lattice into the paint; a tent (``max(0, 1 - |t|)``, linear
-between column centres) still did, more faintly, because the slope of what it lays down jumps at
-every column centre, and where a thin film's colour turns (a stroke's fringe) that jump falls at
-one phase of the cell: the B-spline's slope is continuous. The tent stays selectable (a scene's
-``[paint] transfer = "tent"``): it reaches half a cell less beyond a stroke. With one texel per
-cell (``k = 1``) the tent is the identity and is used either way (no lattice is possible, and the
-spline would only blur).
-Each texel's new wetness is its mobile share of its paint (a texel has one wetness for all its
-pigments, so its total of dry paint is kept, not each pigment's). Texels whose change is exactly
-zero are not touched (bit-exact), and texel totals change by exactly ``k^2`` times the column
-change (to round-off), so paint is conserved. Columns not wholly on the canvas hold no paint and
-are walls; a column at the canvas edge has its weights clipped there (its gains are normalised over
-the texels it reaches). Where a cell spans two texels or more, a step's change is laid along the
-path the tip travelled during the step (:func:`paintapp.paint.texel_transfer.sweep_change`), so a
-fast stroke leaves no tooth per step. The texel passes are numba kernels
-(:mod:`paintapp.paint.texel_transfer`).
+texel ``(dx, dy)`` texels from a column's centre has weight ``B(dx / k) B(dy / k)`` (``B`` reaches
+a cell and a half; its slope is continuous, so no cell lattice prints; a scene may select the
+crisper ``tent``, which is also used for ``k = 1``). :meth:`ColumnWindow.gather` gives each column
+its weighted mobile paint over its area ``k^2``; :meth:`ColumnWindow.write_back` lays a gain down
+with the weights (fresh, fully wet) and takes a loss as the same fraction of the weighted mobile
+paint of every texel it reaches. Texels whose change is exactly zero are untouched, texel totals
+change by exactly ``k^2`` times the column change (to round-off), and a texel's new wetness is
+its mobile share (one wetness for all pigments). Columns not wholly on the canvas are walls; an
+edge column's weights are clipped there. Kernels: :mod:`paintapp.paint.columns_kernels`.
 """
 
 from __future__ import annotations
@@ -48,31 +30,29 @@ from common.errors import InputError
 from paintapp.canvas.model import FILM_FLOOR_M as CANVAS_FILM_FLOOR_M
 from paintapp.canvas.model import MAX_PAINT_M, Canvas
 from paintapp.canvas.regions import Box
-from paintapp.paint import texel_transfer as kernels
-from paintapp.paint.paint_scene import TRANSFER_KERNELS
+from paintapp.paint import columns_kernels as kernels
+from paintapp.paint.paint_scene import TransferKernel
 
 #: Samples per cell of travel that a swept change is averaged over, and at least one a texel
-#: (at most :data:`paintapp.paint.texel_transfer.MAX_SWEEP_SAMPLES`): the columns' change is
+#: (at most :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is
 #: smooth on the scale of a cell, and the bristle texture's streaks run along the path, but a
-#: ridge or a trail's edge is a texel sharp. Two a cell alone left the demo's square probe
-#: (0.3 mm cells, 6.3 texels a sub-step, four samples) a ripple at the sub-step, 0.048 of its
-#: height; a sample a texel (seven) 0.026.
+#: ridge or a trail's edge is a texel sharp: with two a cell alone, a ripple at the sub-step
+#: remains.
 SWEEP_SAMPLES_PER_CELL = 2
 #: Longest distance (texels) between two of those samples.
 SWEEP_SPACING_TEXELS = 1.0
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
 #: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth
 #: left there come from where the tip's faces fall within a cell, which the sweep cannot undo
-#: (measured: the demo's probe on its own 0.25 mm canvas, one texel per cell, tooth depth 0.083
-#: unswept, 0.115 swept; on the A4 sheet, two texels per cell, 0.184 unswept, 0.108 swept).
+#: (sweeping deepens them); from two texels per cell the sweep makes them shallower.
 SWEEP_MIN_TEXELS = 2
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
 FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
 #: Thinnest film (m) a texel at the paint's edge may be left with; thinner ones go to the
-#: texel's thickest neighbour (:func:`paintapp.paint.texel_transfer.gather_fringe_films`).
-#: Far under anything the eye sees; any of 1e-10 to 1e-8 m closes the holes measured.
+#: texel's thickest neighbour (:func:`paintapp.paint.columns_kernels.gather_fringe_films`).
+#: Far under anything the eye sees; any of 1e-10 to 1e-8 m closes the holes.
 FRINGE_FLOOR_M = 1e-9
 
 
@@ -119,11 +99,9 @@ class ColumnWindow:
         canvas: Canvas,
         cells_xy: tuple[int, int],
         texels_per_cell: int,
-        kernel: str = "bspline",
+        kernel: TransferKernel = "bspline",
         continuous: bool = False,
     ) -> None:
-        if kernel not in TRANSFER_KERNELS:
-            raise ValueError(f"kernel must be one of {TRANSFER_KERNELS}, got {kernel!r}")
         self.kernel = kernel
         self.continuous = continuous
         self.texel_m = square_texel_m(canvas)
@@ -247,9 +225,9 @@ class ColumnWindow:
         wx, wy = self._weights(r, box)
         sums = np.empty((out.shape[0], r[1] - r[0], r[3] - r[2]))
         unused = np.empty((0, 0))
-        kernels.texels_to_columns(canvas.paint_m, canvas.wetness, box[0], box[1], wx.first,
-                                  wx.taps, wy.first, wy.taps, unused, unused, False, sums,
-                                  np.empty(sums.shape[1:]))  # fmt: skip
+        block = (canvas.paint_m, canvas.wetness, box[0], box[1])
+        texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
+        kernels.texels_to_columns(texels, (unused, unused), False, sums, np.empty(sums.shape[1:]))
         out[:, r[0] : r[1], r[2] : r[3]] = sums / self.k**2
         return out
 
@@ -270,8 +248,8 @@ class ColumnWindow:
         first, so only the texels of columns whose change survives are read and written (the
         transport's thin tails reach the whole grid). ``sweep_texels``, the tip's travel during
         the step (texels, x and y), lays the change along that path
-        (:func:`paintapp.paint.texel_transfer.sweep_change`). The texels are read and written by
-        :mod:`paintapp.paint.texel_transfer`'s kernels; only the texels that changed are written
+        (:func:`paintapp.paint.columns_kernels.sweep_change`). The texels are read and written by
+        :mod:`paintapp.paint.columns_kernels`'s kernels; only the texels that changed are written
         and marked dirty."""
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
@@ -295,43 +273,34 @@ class ColumnWindow:
         box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
         wx, wy = self._weights(sub, box)
         shape = texture.weights(box) if texture is not None else None
-        args = (
-            canvas.paint_m,
-            canvas.wetness,
-            box[0],
-            box[1],
-            wx.first,
-            wx.taps,
-            wy.first,
-            wy.taps,
-        )
+        block = (canvas.paint_m, canvas.wetness, box[0], box[1])
+        texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
         if shape is None:
             unused = np.empty((0, 0))
-            gain_w = loss_w = unused
+            texture_w = (unused, unused)
             rates = column_rates(owned, change, np.outer(wx.sums, wy.sums)[None], owned)
         else:
-            gain_w, loss_w = shape
+            texture_w = shape
             first = np.empty_like(owned)
             support = np.empty(owned.shape[1:])
-            kernels.texels_to_columns(*args, loss_w, gain_w, True, first, support)
+            kernels.texels_to_columns(texels, texture_w, True, first, support)
             rates = column_rates(owned, change, support[None], first)
         ny, nx = box[3] - box[1], box[2] - box[0]
         new_mobile = np.empty((owned.shape[0], ny, nx))
         touched = np.empty((ny, nx), dtype=np.bool_)
         total = np.empty((ny, nx))
-        kernels.spread_to_texels(*args, *rates, gain_w, loss_w, shape is not None, new_mobile,
-                                 touched, total)  # fmt: skip
+        kernels.spread_to_texels(
+            texels, rates, texture_w, shape is not None, new_mobile, touched, total
+        )
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
-            kernels.sweep_change(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile,
-                                 touched, total, float(sweep_texels[0]), float(sweep_texels[1]),
-                                 spacing)  # fmt: skip
+            travel = (float(sweep_texels[0]), float(sweep_texels[1]))
+            kernels.sweep_change(*block, new_mobile, touched, total, *travel, spacing)
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)
         bounds = np.zeros(4, np.int64)
-        kernels.store_texels(canvas.paint_m, canvas.wetness, box[0], box[1], new_mobile, touched,
-                             MAX_PAINT_M, bounds)  # fmt: skip
+        kernels.store_texels(*block, new_mobile, touched, MAX_PAINT_M, bounds)
         if bounds[2] > bounds[0]:
             canvas.mark_dirty(*(int(v) for v in bounds))
 
@@ -376,16 +345,16 @@ def axis_weights(offset: float, k: int, columns: int, texels: int, kernel: str) 
     block starting ``offset`` texels after the first texel (a fraction of a texel for a window
     that follows continuously): the weights depend on nothing else, and a window that moves by
     whole cells meets the same few again and again (kept, not built anew with their sparse
-    matrices: 0.4 ms each on an A4 canvas at 0.1 mm). Read only."""
+    matrices each time). Read only."""
     return AxisWeights(offset, k, columns, texels, kernel)
 
 
 class AxisWeights:
     """One axis's transfer weights (:func:`transfer_weights`, columns by texels), per texel:
     ``first``, the first column its weights reach, and ``taps``, the weights of it and the next
-    columns (as :func:`paintapp.paint.texel_transfer.axis_taps` takes them from the dense
+    columns (as :func:`paintapp.paint.columns_kernels.axis_taps` takes them from the dense
     weights); ``sums``, each column's total. Built by
-    :func:`paintapp.paint.texel_transfer.weight_taps`."""
+    :func:`paintapp.paint.columns_kernels.weight_taps`."""
 
     def __init__(self, offset: float, k: int, columns: int, texels: int, kernel: str) -> None:
         self.shape = (columns, texels)

@@ -1,30 +1,21 @@
 """The depth-averaged paint grid (Baxter & Lin, section 5.2): a 2D grid in the canvas plane.
 
-For thin paint a full 3D grid is not needed: the paint layer moves with the same velocity at every
-depth, so a 2D incompressible fluid in the canvas plane carries the paint *thickness* (metres per
-pigment in each cell) instead of volume fractions. The tip is the cut of its (splayed) shape at
-half the commanded depth, turned by its yaw. The four sides are free-slip walls, and the grid
-re-centres on the tip at every step (the scene's ``margin_cells``), so they stay half a grid from
-it. (They were open, zero pressure, with a halo of columns around the grid taking and giving the
-paint that crossed them; but a halo one column wide is no far field: fluid drawn in through the
-sides behind the tip drained it, and the drained halo was left behind along both edges of the
-window, a line 10 % thinner beside a small round brush's glaze through wet paint and down to 2 µm
-of 100 beside the square probe's. Measured on the probe dragged through 0.1 mm of wet paint,
-mean drag against a grid twice as wide: open sides 1.3-1.7 times it, free-slip walls 1.13.)
+For thin paint the layer moves with the same velocity at every depth, so a 2D incompressible
+fluid in the canvas plane carries the paint *thickness* (metres per pigment in each cell). The tip
+is the cut of its (splayed) shape at half the commanded depth, turned by its yaw. The four sides
+are free-slip walls, and the grid re-centres on the tip at every step (the scene's
+``margin_cells``), so they stay half a grid from it.
 
-Viscosity: the depth-integrated stress of a layer of thickness ``H`` is ``mu H`` times the
-in-plane strain rate, so each cell gets the effective viscosity ``mu_air + (mu - mu_air) H / H_ref``
-(``H`` clipped to the reference thickness ``H_ref = max_height_m``), and bare canvas barely moves.
-The canvas under the layer is no-slip: for a layer with a half-parabolic velocity profile its wall
-shear is ``3 mu u / H``, a linear drag ``du/dt = -3 nu u / H^2`` on the depth-averaged velocity.
-Each cell gets the drag rate ``3 mu_cell / (rho H_ref^2)``, so the paint only moves near the tip
-that pushes it (within about ``H_ref`` of it), while the nearly free air lets the displaced fluid
-go round the tip.
+Viscosity: a layer of thickness ``H`` has the depth-integrated stress ``mu H`` times the in-plane
+strain rate, so each cell gets ``mu_air + (mu - mu_air) H / H_ref`` (``H`` clipped to
+``H_ref = max_height_m``), and bare canvas barely moves. The no-slip canvas under a
+half-parabolic profile gives the drag rate ``3 mu_cell / (rho H_ref^2)`` on the depth-averaged
+velocity, so the paint moves only within about ``H_ref`` of the tip, while the nearly free air
+lets the displaced fluid go round it.
 
-Force: the 2D stress integral is per unit depth (N/m, and N m/m for the torque about the canvas
-normal); times ``H_ref`` it gives newtons, ``mu H`` times the strain rate summed round the tip:
-thicker paint pushes back harder, and a tip in no paint feels (almost) nothing. The z force and the
-tilting torques are zero in this model.
+Force: the 2D stress integral is per unit depth (N/m, N m/m for the torque about the canvas
+normal); times ``H_ref`` it gives newtons: thicker paint pushes back harder, and a tip in no paint
+feels (almost) nothing. The z force and the tilting torques are zero in this model.
 """
 
 from __future__ import annotations
@@ -142,8 +133,9 @@ class PaintGridDepthAveraged(PaintModel):
             names = [self.canvas.pigment_names[p] for p in used]
             report = self._exchange(q, pose, dt_s, reservoir, names)
             clock.mark("exchange")
-            substeps = transport(q, sim.state.comps, sim.state.face_types, 2, h, dt_s,
-                                 sim.component_threads())  # fmt: skip
+            substeps = transport(
+                q, sim.state.comps, sim.state.face_types, 2, h, dt_s, sim.component_threads()
+            )
             clock.mark("transport")
         except FloatingPointError:
             self._reset(pose)
@@ -151,15 +143,25 @@ class PaintGridDepthAveraged(PaintModel):
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before)[..., 0]
         self.window.write_back(
-            self.canvas, delta, self.texture(pose, centre_m), gathered=all_columns,
+            self.canvas,
+            delta,
+            self.texture(pose, centre_m),
+            gathered=all_columns,
             sweep_texels=self.sweep_texels(),
-        )  # fmt: skip
+        )
         clock.mark("write")
         force, torque = self._tip_force()
         return PaintStep(
-            force, torque, 1, substeps, report, clock.total_ms, clock.ms, channels=len(used),
+            force,
+            torque,
+            1,
+            substeps,
+            report,
+            clock.total_ms,
+            clock.ms,
+            channels=len(used),
             stokes_steps=int(sim.settings.advection == "none"),
-        )  # fmt: skip
+        )
 
     def _tip_force(self) -> tuple[np.ndarray, ...]:
         """Force (N) and torque (N m) on the tip: the per-depth 2D values times ``H_ref``."""

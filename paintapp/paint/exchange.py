@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushes import PaintReservoir
-from paintapp.paint.kernels import (
+from paintapp.paint.cell_kernels import (
     _ring_room,
     add_to_ring,
     probe_rings,
@@ -77,8 +77,9 @@ class ExchangeReport:
     deposited_m3: float = 0.0
 
 
-def deposit_volume(reservoir: PaintReservoir, speed_m_s: float, pressure: float, dt_s: float,
-                   length_m: float) -> float:  # fmt: skip
+def deposit_volume(
+    reservoir: PaintReservoir, speed_m_s: float, pressure: float, dt_s: float, length_m: float
+) -> float:
     """Volume (m^3) the brush offers to lay down this step (see the module docstring)."""
     rate = max(speed_m_s, 0.0) * (0.25 + 0.75 * min(max(pressure, 0.0), 1.0)) / length_m
     return reservoir.total_m3 * -math.expm1(-rate * dt_s)

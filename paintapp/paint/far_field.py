@@ -1,23 +1,18 @@
 """Open lateral sides for the 3D paint grid: paint through its sides, fed from a band of canvas.
 
-Slip walls at the grid's lateral sides confine the flow round the tip: the paint the tip pushes
-must turn within one brush width, so the drag comes out higher and the lift lower than in an
-unbounded layer, and the trail changes with the walls' distance. Open sides (zero pressure) let
-the flow through, but then paint crosses them too, and where it comes from or goes to lies
-outside the grid.
+Slip walls at the grid's lateral sides confine the flow round the tip (the drag comes out higher
+and the lift lower than in an unbounded layer, and the trail changes with the walls' distance).
+Open sides (zero pressure) let the flow through, and with it paint from or to outside the grid.
 
-The paint transport here runs on the grid with one ring of *ghost* cells around it. A ghost
-column holds the wet paint of the canvas column just beyond the side (filled bottom-up like the
-grid's own columns), and the only faces a ghost cell shares that pass paint are the open side
-faces, with the solver's velocity there: paint leaving the grid lands in the ghost cells, paint
-entering is drawn from them at the outside's concentration. What a ghost column gained or lost
-over the step is then laid on, or taken from, a band of ``depth`` canvas columns outwards from
-the side, with weights falling linearly with the distance (the flow that crosses the side spreads
-and slows beyond it, so the paint it moves comes from, or goes to, a wide strip, not the one
-column next to the side; a one-column band left a visible trough along both edges of a stroke).
-A loss is taken in proportion to the weight times each column's paint (it never exceeds what the
-first column holds, since the ghost held no more), a gain with the weights alone. Paint stays
-conserved to round-off and non-negative; nothing crosses a side next to a column off the canvas.
+The paint transport runs on the grid with one ring of *ghost* cells. A ghost column holds the wet
+paint of the canvas column just beyond the side (filled bottom-up like the grid's own), and only
+the open side faces pass paint to and from it, with the solver's velocity there. What a ghost
+column gained or lost over the step is then laid on, or taken from, a band of ``depth`` canvas
+columns outwards from the side, weights falling linearly with the distance (the flow crossing the
+side spreads and slows beyond it, so its paint comes from or goes to a wide strip). A loss is
+taken in proportion to the weight times each column's paint (never more than the first column
+holds), a gain with the weights alone. Paint stays conserved to round-off and non-negative;
+nothing crosses a side next to a column off the canvas.
 """
 
 from __future__ import annotations
@@ -26,7 +21,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from paintapp.paint.kernels import fill_columns
+from paintapp.paint.cell_kernels import fill_columns
 from solver import BOUNDARY, FREE, transport
 
 

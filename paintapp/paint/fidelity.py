@@ -1,33 +1,28 @@
 """Fidelity presets: paint fast at ``draft``, finish at ``high`` (``paintapp replay --fidelity``).
 
-A preset is a small table of knobs applied on top of a painting scene (:func:`apply_fidelity`):
+A preset is a small table of knobs applied on top of a painting scene (:func:`apply_fidelity`);
+``standard`` is the scene exactly as written:
 
 ============  ==========  ========  ==========  ===========  ===========  ===========
 preset        cell scale  nz scale  pressure    viscosity    advection    max step
 ============  ==========  ========  ==========  ===========  ===========  ===========
-``draft``     0.75        0.75      tol 1e-4    tol 1e-3     see below    the scene's
-``standard``  --          --        --          --           --           --
+``draft``     0.75        0.75      tol 1e-4    tol 1e-3     Stokes       the scene's
 ``high``      1.5         1.5       tol 1e-7    tol 1e-8     maccormack   1/120 s
 ============  ==========  ========  ==========  ===========  ===========  ===========
 
-``draft`` leaves the fluid's momentum advection out while the paint's Reynolds number at the tip
-is below 0.1 (``choose.stokes_below_re``, :mod:`paintapp.paint.choice`; linear advection above);
-``standard`` does as the scene says (the bundled scenes always advect); ``high`` always advects.
-
-``standard`` is the scene exactly as written. The cell scale multiplies the grid's cells (the grid
-keeps its span in brush widths, so the cells get smaller: the cell edge is a whole number of canvas
-texels, so the real change is as close as that allows -- ``--explain`` shows it) and, in the same
-proportion, the re-centring margin; the 3D grid's height in cells scales by the nz scale. Tolerances
-are relative residuals of the pressure and viscosity PCG solves; ``max_iterations`` caps them
-(draft 200, high 1000; standard keeps the scene's, 400 in the bundled scenes). A
-smaller ``max_step_s`` splits the gap between stylus samples into more solver steps (the demo
-strokes are sampled at 60 Hz: ``high`` takes two steps per sample).
+``draft`` leaves out momentum advection while the tip's Reynolds number is below 0.1
+(``choose.stokes_below_re``; linear advection above). The cell scale multiplies the grid's cells
+(the same span, smaller cells, as near as whole texels per cell allow: ``--explain`` shows it)
+and the re-centring margin; the nz scale the 3D grid's height in cells. Tolerances are relative
+residuals of the pressure and viscosity solves; ``max_iterations`` caps them (draft 200, high
+1000, standard the scene's). A smaller max step splits a gap between samples into more steps.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Literal
 
 from common.errors import InputError
 from paintapp.paint.paint_scene import MAX_CELLS, PaintScene
@@ -55,7 +50,7 @@ class Fidelity:
     pressure_tolerance: float | None = None
     viscosity_tolerance: float | None = None
     max_iterations: int | None = None
-    advection: str | None = None
+    advection: Literal["linear", "maccormack"] | None = None
     max_step_s: float | None = None
     stokes_below_re: float | None = None
     description: str = ""
@@ -65,16 +60,31 @@ FIDELITIES: dict[str, Fidelity] = {
     f.name: f
     for f in (
         Fidelity(
-            "draft", 0.75, 0.75, 1e-4, 1e-3, 200, "linear", stokes_below_re=0.1,
+            "draft",
+            cell_scale=0.75,
+            nz_scale=0.75,
+            pressure_tolerance=1e-4,
+            viscosity_tolerance=1e-3,
+            max_iterations=200,
+            advection="linear",
+            stokes_below_re=0.1,
             description="interactive: 0.75x cells, loose tolerances, Stokes flow below Re 0.1",
         ),
         Fidelity("standard", description="the scene as written"),
         Fidelity(
-            "high", 1.5, 1.5, 1e-7, 1e-8, 1000, "maccormack", 1.0 / 120.0, 0.0,
+            "high",
+            cell_scale=1.5,
+            nz_scale=1.5,
+            pressure_tolerance=1e-7,
+            viscosity_tolerance=1e-8,
+            max_iterations=1000,
+            advection="maccormack",
+            max_step_s=1.0 / 120.0,
+            stokes_below_re=0.0,
             description="final render: 1.5x cells, tight tolerances, MacCormack, 120 Hz steps",
         ),
     )
-}  # fmt: skip
+}
 FIDELITY_NAMES = tuple(FIDELITIES)
 
 
@@ -123,5 +133,6 @@ def apply_fidelity(scene: PaintScene, fidelity: str | Fidelity) -> PaintScene:
         choose = replace(choose, stokes_below_re=f.stokes_below_re)
     if solver == s and cells == scene.cells and step == scene.max_step_s and choose == scene.choose:
         return scene
-    return replace(scene, cells=cells, margin_cells=margin, max_step_s=step, solver=solver,
-                   choose=choose)  # fmt: skip
+    return replace(
+        scene, cells=cells, margin_cells=margin, max_step_s=step, solver=solver, choose=choose
+    )

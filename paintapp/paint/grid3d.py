@@ -1,26 +1,21 @@
 """The 3D paint grid: a viscous-fluid box over the brush footprint that rides with the tip.
 
-Geometry: ``scene.cells`` (or fewer, ``cells``: a grid fitted to the brush) cubes of edge ``h`` (a whole number of canvas texels, the grid spanning
-``scene.span`` brush widths); the bottom face is the canvas plane ``z = 0``. Sides: the canvas
-(``z_min``) is a no-slip wall; the four lateral sides are free-slip walls (the paint around the
-window is at rest), or with the scene's ``sides = "open"`` open (zero pressure), the paint that
-crosses them traded with a band of canvas beyond (:mod:`paintapp.paint.far_field`); the top
-(``z_max``) is open, so the tip can push down into the box and fluid can leave and enter above
-the paint. Columns not wholly on the canvas are solid.
+Geometry: ``scene.cells`` (or fewer, ``cells``: a grid fitted to the brush) cubes of edge ``h`` (a
+whole number of canvas texels, the grid spanning ``scene.span`` brush widths); the bottom face is
+the canvas plane ``z = 0``, a no-slip wall. The lateral sides are free-slip walls (the paint
+around the window at rest) or, with ``sides = "open"``, zero pressure, the paint crossing them
+traded with a band of canvas beyond (:mod:`paintapp.paint.far_field`); the top is open, so the tip
+can push down into the box. Columns not wholly on the canvas are solid.
 
-Fluid: one incompressible fluid of the paint's density whose dynamic viscosity varies by cell,
-``mu = mu_air + phi (mu_paint - mu_air)`` with ``phi`` the cell's paint fraction
-(:class:`solver.simulation.Simulation` with a per-cell viscosity field): the paint is viscous, the air
-above it is ``air_viscosity_ratio`` times thinner. The brush force is the solver's stress integral
-over the tip, so it grows with the paint the tip is in. The implicit solver has no time-step
-limit, so real oil-paint viscosities (10-100 Pa s) need no scaling.
+Fluid: the paint's density, viscosity ``mu = mu_air + phi (mu_paint - mu_air)`` per cell (``phi``
+its paint fraction; ``mu_air`` is ``air_viscosity_ratio`` of the paint's); the implicit solver
+needs no scaling of real paint viscosities. The brush force is the stress integral over the tip.
 
-Each step: fill the cells from the canvas's wet paint (:func:`paintapp.paint.kernels.fill_columns`),
+Each step: fill the cells from the canvas's wet paint (:func:`paintapp.paint.cell_kernels.fill_columns`),
 set the viscosity field, drive the probe to the tip pose and take one solver step, trade paint with
 the brush (:mod:`paintapp.paint.exchange`), transport the paint conservatively with the new
 velocity (:func:`solver.advection.scalars.transport`), and write the change back to the canvas.
-The tip is placed at the depth the stylus commands: the part below the canvas plane is cut off by
-the grid's floor (bristles pressed flat), so the footprint grows with pressure.
+The floor cuts off the tip below the canvas (bristles pressed flat): the footprint grows with depth.
 """
 
 from __future__ import annotations
@@ -33,6 +28,7 @@ from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
+from paintapp.paint.cell_kernels import fill_columns
 from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.exchange import (
     CellSpace,
@@ -42,7 +38,6 @@ from paintapp.paint.exchange import (
     exchange_with_brush,
 )
 from paintapp.paint.far_field import band_change, padded_transport, side_faces
-from paintapp.paint.kernels import fill_columns
 from paintapp.paint.nearest_room import tip_distance
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
@@ -225,8 +220,9 @@ class PaintGrid3D(PaintModel):
         delta = np.zeros_like(outer)
         delta[used] = band
         delta[used, b : b + nx, b : b + ny] += (q - before).sum(axis=3) * h
-        self.outer.write_back(self.canvas, delta, texture, gathered=outer,
-                              sweep_texels=self.sweep_texels())  # fmt: skip
+        self.outer.write_back(
+            self.canvas, delta, texture, gathered=outer, sweep_texels=self.sweep_texels()
+        )
         if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
             try:
                 substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, texture)
@@ -281,8 +277,9 @@ class PaintGrid3D(PaintModel):
             on_canvas = self.outer.on_canvas()
             faces = side_faces(sim.state.comps, sim.state.face_types, open_frac, on_canvas, b)
             ring = outer[:, b - 1 : outer.shape[1] - b + 1, b - 1 : outer.shape[2] - b + 1]
-            substeps, gains = padded_transport(q, vel, types, *faces, ring, self.cell_size_m, dt_s,
-                                               threads)  # fmt: skip
+            substeps, gains = padded_transport(
+                q, vel, types, *faces, ring, self.cell_size_m, dt_s, threads
+            )
             band += band_change(gains, outer, on_canvas, b)
         share = vacated_share(label_before, label, fluid_before, fluid)
         lay_trail(q, label, share, space)

@@ -2,22 +2,17 @@
 
 The brush exchange pushes the paint the tip overlaps (and the trail's overflow) aside into free
 room round the tip, nearest first: that builds the ridges along a stroke. Counted in rings of
-cells (a cell's graph distance from the tip's cells, :func:`paintapp.paint.kernels.probe_rings`),
-"nearest" jumps by a whole cell whenever one of the tip's faces passes a cell centre: the first
-ring moves out by a cell at once, and with it the pushed paint. A tip that drifts sideways by a
-fraction of a cell per step passes a centre every few steps, and its ridge carried that beat as a
-row of lumps (the square probe dragged at a slope of 1/7.5 on 0.1 mm texels: lumps every 15
-texels along its lower ridge).
+cells (:func:`paintapp.paint.cell_kernels.probe_rings`), "nearest" jumps by a whole cell whenever one
+of the tip's faces passes a cell centre, and a tip drifting sideways prints that beat as lumps.
 
 Here the distance is the tip's signed distance at each cell centre, in cells (the cut-cell
-geometry's, so it moves continuously with the tip), and the room fills like water rising from the
-tip's surface: a cell at distance ``d`` takes its free room times ``clip((L - d) / w, 0, 1)``,
-with the level ``L`` set so that the cells take all the paint (or all their room) and ``w``
-(:data:`FILL_WIDTH`) the width of the rising edge. What a cell takes is a continuous function of
-the distances, so the pushed paint follows the tip's faces smoothly through the cells. Cells the
-tip covers in part (``d <= 0``, room left by the cut) fill first; a cell whose distance is not
-known (beyond the cut geometry's window round the tip) takes nothing here, and the rings place
-what is left (:func:`paintapp.paint.exchange.place_pushed`).
+geometry's, continuous as the tip moves), and the room fills like water rising from the tip's
+surface: a cell at distance ``d`` takes its free room times ``clip((L - d) / w, 0, 1)``, the level
+``L`` set so that the cells take all the paint (or all their room), ``w`` (:data:`FILL_WIDTH`) the
+width of the rising edge. What a cell takes is continuous in the distances, so the pushed paint
+follows the tip's faces smoothly. Cells the tip covers in part (``d <= 0``, room left by the cut)
+fill first; a cell of unknown distance (beyond the cut geometry's window) takes nothing here, and
+the rings place what is left (:func:`paintapp.paint.exchange.place_pushed`).
 """
 
 from __future__ import annotations

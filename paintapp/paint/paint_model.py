@@ -1,28 +1,21 @@
 """What every paint model shares: following the tip, the canvas window, split steps, the result.
 
-A paint model (3D grid, depth-averaged grid, or no fluid) is driven by tip poses:
-:meth:`PaintModel.touch_down` when the brush enters the paint, :meth:`PaintModel.step` for each
-new pose while it stays in contact (the caller does nothing while it is in the air), and
-:meth:`PaintModel.lift` when it leaves. A step reads the wet paint under the window from the
-canvas, lets the model move it (and trade it with the brush), and writes the change back; the
-grid itself keeps no paint between steps, only its fluid velocity.
+A paint model (3D grid, depth-averaged grid, or no fluid) is driven by tip poses
+(:meth:`PaintModel.touch_down`, :meth:`PaintModel.step` in contact, :meth:`PaintModel.lift`).
+A step reads the wet paint under the window from the canvas, lets the model move it (and trade
+it with the brush), and writes the change back; the grid keeps only its velocity between steps.
 
-Gaps between poses longer than ``scene.max_step_s``, or in which the tip travels more than
-``scene.max_travel_cells`` cells, are split into equal sub-steps (the travel into at most
-``scene.max_travel_substeps``) along the straight line between the poses: the brush then touches
-every column along its path, and with the B-spline transfer between columns and texels
-(:mod:`paintapp.paint.columns`) its deposits along a stroke add up to an even band instead of a
-comb of separate prints. What a fast tip leaves behind still depends on where its surface falls
-inside a cell at the end of each sub-step (:mod:`paintapp.paint.trail`), and not monotonically on
-the travel per sub-step: measured, a fraction of a cell per sub-step (a third or less) smooths
-the trail, a cell and a quarter roughens it.
+Gaps longer than ``scene.max_step_s``, or with more travel than ``scene.max_travel_cells`` cells,
+are split into equal sub-steps (the travel into at most ``scene.max_travel_substeps``) along the
+straight line between the poses, so the brush touches every column along its path and its
+deposits add up to an even band (:mod:`paintapp.paint.trail` says what a fast tip leaves).
 
 A model builds no more than is read: :class:`ForceNeeds` says whether anyone reads the force
 (without, the solver does no force work) and the torque (without, none is published); with
-``scene.choose.used_pigments`` only the pigment channels in the window or in the brush are carried
-through the grid (the others are all zero and stay so); and a model may be built with fewer
-columns than ``scene.cells`` (``cells_xy`` below ``reference_cells``: the same cell size over a
-smaller footprint, :mod:`paintapp.paint.fit`).
+``scene.choose.used_pigments`` only the pigment channels in the window or in the brush go
+through the grid (the others are zero and stay so); and a model may have fewer columns than
+``scene.cells`` (``cells_xy`` below ``reference_cells``: the same cell size over a smaller
+footprint, :mod:`paintapp.paint.fit`).
 """
 
 from __future__ import annotations
@@ -179,12 +172,8 @@ class PaintModel(ABC):
         In creeping paint the advection term is ``Re`` times the viscous one, but the paint-free
         cells above the paint (``air_viscosity_ratio``) are not creeping, and a tip that jumps
         cells between steps leaves behind it the velocity that advection would have carried
-        along. Measured (Re about 0.01): on the painting benchmark's stroke, 1.7 of 9.4 ms of
-        solver time saved, the force trace moved by 0.9 % (RMS) and the laid paint by 5 % of
-        its change (the same grid is 49 % from the ``high`` preset's finer one in both); behind
-        the square probe scraping 2.5 cells per step, the trail's roughness rose from 0.17 to
-        0.21 and its comb from 0.11 to 0.15 (``tests/paintapp/paint/test_trail.py``'s metric).
-        So only ``draft`` takes it by default."""
+        along: leaving it out saves solver time but roughens a fast tip's trail, so only the
+        ``draft`` preset takes it by default."""
         settings = self.solver_settings()
         if self.reynolds < self.scene.choose.stokes_below_re and settings.advection != "none":
             return replace(settings, advection="none")

@@ -57,6 +57,7 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal, TypeVar, cast, get_args
 
 from common.errors import InputError
 from common.tables import Table
@@ -65,19 +66,32 @@ from solver import SolverSettings, method_keys
 
 #: Kernels that trade paint between the grid's columns and the canvas texels
 #: (:func:`paintapp.paint.columns.transfer_weights`).
-TRANSFER_KERNELS = ("bspline", "tent")
-
+TransferKernel = Literal["bspline", "tent"]
 #: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
-SIDE_KINDS = ("slip", "open")
+SideKind = Literal["slip", "open"]
 #: How the paint grid follows the tip (:class:`PaintScene`'s ``follow``).
-FOLLOW_KINDS = ("cells", "continuous")
+FollowKind = Literal["cells", "continuous"]
 #: How pushed paint finds room round the tip (:mod:`paintapp.paint.nearest_room`).
-PUSH_FILLS = ("distance", "rings")
-
+PushFill = Literal["distance", "rings"]
 #: The paint models.
-FLUID_MODELS = ("grid3d", "depth_averaged", "none")
+FluidModel = Literal["grid3d", "depth_averaged", "none"]
 #: What a scene's ``fluid_model`` may say: a model, or ``auto`` (chosen per sample).
-SCENE_FLUID_MODELS = (*FLUID_MODELS, "auto")
+SceneFluidModel = Literal[FluidModel, "auto"]
+
+TRANSFER_KERNELS: tuple[TransferKernel, ...] = get_args(TransferKernel)
+SIDE_KINDS: tuple[SideKind, ...] = get_args(SideKind)
+FOLLOW_KINDS: tuple[FollowKind, ...] = get_args(FollowKind)
+PUSH_FILLS: tuple[PushFill, ...] = get_args(PushFill)
+FLUID_MODELS: tuple[FluidModel, ...] = get_args(FluidModel)
+SCENE_FLUID_MODELS: tuple[SceneFluidModel, ...] = get_args(SceneFluidModel)
+#: :class:`PaintScene`'s string-valued fields: the field, its key in a scene file, its values.
+_CHOICES: tuple[tuple[str, str, tuple[str, ...]], ...] = (
+    ("fluid_model", "fluid_model", SCENE_FLUID_MODELS),
+    ("follow", "grid.follow", FOLLOW_KINDS),
+    ("sides", "grid.sides", SIDE_KINDS),
+    ("transfer", "paint.transfer", TRANSFER_KERNELS),
+    ("push", "brush.push", PUSH_FILLS),
+)
 DEFAULT_SCENE = "default"
 MAX_CELLS = 200_000
 
@@ -163,7 +177,7 @@ class PaintScene:
             texels (:mod:`paintapp.paint.wet_flow`); False transports the paint in the grid's
             columns and spreads each column's change over its texels.
         sweep: a step's change of the canvas paint is laid along the path the tip swept during
-            the step, not at its end pose alone (:func:`paintapp.paint.texel_transfer.sweep_change`);
+            the step, not at its end pose alone (:func:`paintapp.paint.columns_kernels.sweep_change`);
             False prints one tooth per step along a fast stroke.
         transfer: the kernel that trades paint between the grid's columns and the texels
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
@@ -184,12 +198,12 @@ class PaintScene:
     """
 
     name: str = DEFAULT_SCENE
-    fluid_model: str = "grid3d"
+    fluid_model: SceneFluidModel = "grid3d"
     cells: tuple[int, int, int] = (32, 32, 12)
     span: float = 2.0
     margin_cells: int = 15
-    follow: str = "cells"
-    sides: str = "slip"
+    follow: FollowKind = "cells"
+    sides: SideKind = "slip"
     far_field_cells: int = 8
     max_step_s: float = 0.05
     max_travel_cells: float = 2.0
@@ -202,9 +216,9 @@ class PaintScene:
     settle_on_lift: bool = True
     texel_flow: bool = False
     sweep: bool = True
-    transfer: str = "bspline"
+    transfer: TransferKernel = "bspline"
     pickup_fraction: float = 0.3
-    push: str = "distance"
+    push: PushFill = "distance"
     deposit_length_m: float = 0.04
     solver: SolverSettings = field(
         default_factory=lambda: SolverSettings(
@@ -215,11 +229,10 @@ class PaintScene:
     choose: ModelChoice = field(default_factory=ModelChoice)
 
     def __post_init__(self) -> None:
-        if self.fluid_model not in SCENE_FLUID_MODELS:
-            raise InputError(
-                f"expected one of {', '.join(SCENE_FLUID_MODELS)}, got {self.fluid_model!r}",
-                key="fluid_model",
-            )
+        for name, key, allowed in _CHOICES:
+            value = getattr(self, name)
+            if value not in allowed:
+                raise InputError(f"expected one of {', '.join(allowed)}, got {value!r}", key=key)
         nx, ny, nz = self.cells
         too_flat = self.fluid_model in ("grid3d", "auto") and nz < 3
         if min(nx, ny) < 8 or too_flat or nx * ny * nz > MAX_CELLS:
@@ -232,11 +245,6 @@ class PaintScene:
                 f"expected 0 <= margin_cells < half the grid ({min(nx, ny) // 2}), "
                 f"got {self.margin_cells}",
                 key="grid.margin_cells",
-            )
-        if self.follow not in FOLLOW_KINDS:
-            raise InputError(
-                f"expected one of {', '.join(FOLLOW_KINDS)}, got {self.follow!r}",
-                key="grid.follow",
             )
         if self.follow == "continuous" and (
             self.fluid_model not in ("grid3d", "auto") or self.sides != "slip" or self.texel_flow
@@ -252,10 +260,6 @@ class PaintScene:
                 "the columns' transfer follows the tip continuously)",
                 key="grid.follow",
             )
-        if self.sides not in SIDE_KINDS:
-            raise InputError(
-                f"expected one of {', '.join(SIDE_KINDS)}, got {self.sides!r}", key="grid.sides"
-            )
         if self.sides == "open" and self.fluid_model not in ("grid3d", "auto"):
             raise InputError(
                 f'expected sides = "slip" with fluid_model = {self.fluid_model!r} (only the 3D '
@@ -267,10 +271,6 @@ class PaintScene:
                 'expected sides = "slip" with texel_flow = true (the texels\' flow has no open '
                 "sides)",
                 key="grid.sides",
-            )
-        if self.push not in PUSH_FILLS:
-            raise InputError(
-                f"expected one of {', '.join(PUSH_FILLS)}, got {self.push!r}", key="brush.push"
             )
         if not 1 <= self.far_field_cells <= max(nx, ny):
             raise InputError(
@@ -289,7 +289,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
     """Validate a parsed scene table; :class:`InputError` names the file and key."""
     top = Table(data, source, "")
     description = top.string("description", "")
-    model = top.string("fluid_model", "grid3d", choices=SCENE_FLUID_MODELS)
+    model = _choice(top, "fluid_model", "grid3d", SCENE_FLUID_MODELS)
     grid, paint = top.table("grid", {}), top.table("paint", {})
     brush, solver = top.table("brush", {}), top.table("solver", {})
     choose = top.table("choose", {})
@@ -306,8 +306,8 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         margin_cells=grid.integer(
             "margin_cells", max(0, min(cells[0], cells[1]) // 2 - 1), minimum=0
         ),
-        follow=grid.string("follow", "cells", choices=list(FOLLOW_KINDS)),
-        sides=grid.string("sides", "slip", choices=list(SIDE_KINDS)),
+        follow=_choice(grid, "follow", "cells", FOLLOW_KINDS),
+        sides=_choice(grid, "sides", "slip", SIDE_KINDS),
         far_field_cells=grid.integer("far_field_cells", 8, minimum=1),
         max_step_s=grid.number("max_step_s", 0.05, minimum=1e-4, maximum=1.0),
         max_travel_cells=grid.number("max_travel_cells", 2.0, minimum=0.1, maximum=100.0),
@@ -322,9 +322,9 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         settle_on_lift=paint.boolean("settle_on_lift", True),
         texel_flow=paint.boolean("texel_flow", False),
         sweep=paint.boolean("sweep", True),
-        transfer=paint.string("transfer", "bspline", choices=list(TRANSFER_KERNELS)),
+        transfer=_choice(paint, "transfer", "bspline", TRANSFER_KERNELS),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
-        push=brush.string("push", "distance", choices=list(PUSH_FILLS)),
+        push=_choice(brush, "push", "distance", PUSH_FILLS),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
         solver=SolverSettings(
             pressure_tolerance=solver.number("pressure_tolerance", 1e-5, minimum=1e-12),
@@ -339,6 +339,16 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
     for table in (grid, paint, brush, solver, choose, top):
         table.finish()
     return scene
+
+
+Mode = TypeVar("Mode", bound=str)
+
+
+def _choice(t: Table, key: str, default: str, choices: tuple[Mode, ...]) -> Mode:
+    """The string at ``key`` (``default`` when absent), one of ``choices``: the table's error
+    names the file, the key and the choices otherwise."""
+    value = t.string(key, default, choices=choices)
+    return cast(Mode, value)  # one of ``choices``: checked just above
 
 
 def parse_choice(table: Table) -> ModelChoice:

@@ -39,9 +39,13 @@ MAX_DECISIONS = 10_000
 
 
 def build_model(
-    scene: PaintScene, canvas: Canvas, preset: BrushPreset, fluid: str, fit: GridFit,
+    scene: PaintScene,
+    canvas: Canvas,
+    preset: BrushPreset,
+    fluid: str,
+    fit: GridFit,
     needs: ForceNeeds,
-) -> PaintModel:  # fmt: skip
+) -> PaintModel:
     """A paint model of kind ``fluid`` with the grid ``fit``."""
     return MODEL_CLASSES[fluid](scene, canvas, preset, cells=fit.cells, needs=needs)  # type: ignore[call-arg]
 
@@ -93,28 +97,43 @@ class ModelSelector:
             Decision("outputs", self.needs.describe(), _needs_reason(self.needs)),
         ]
         if s.fluid_model == "auto":
-            out.append(Decision(
-                "fluid model", "auto: depth_averaged or grid3d per paint layer",
-                f"depth-averaged below {c.thin_below_m * 1e3:.3g} mm of wet paint under the "
-                f"brush, 3D above {c.thick_above_m * 1e3:.3g} mm (hysteresis in between)",
-            ))  # fmt: skip
+            out.append(
+                Decision(
+                    "fluid model",
+                    "auto: depth_averaged or grid3d per paint layer",
+                    f"depth-averaged below {c.thin_below_m * 1e3:.3g} mm of wet paint under the "
+                    f"brush, 3D above {c.thick_above_m * 1e3:.3g} mm (hysteresis in between)",
+                )
+            )
         else:
             out.append(Decision("fluid model", s.fluid_model, "the scene's fluid_model"))
-        out.append(Decision(
-            "dry brush", "no fluid" if c.dry_brush else "fluid anyway",
-            "an empty brush over dry canvas moves no paint" if c.dry_brush
-            else "choose.dry_brush = false",
-        ))  # fmt: skip
-        out.append(Decision(
-            "grid size", "fitted to the brush" if c.fit_grid else "the scene's cells",
-            "choose.fit_grid: the contact height and footprint set the cells (same h)"
-            if c.fit_grid else f"choose.fit_grid = false: {'x'.join(map(str, s.cells))}",
-        ))  # fmt: skip
-        out.append(Decision(
-            "pigment channels", "only those in use" if c.used_pigments else "all of the canvas's",
-            "unused channels are all zero and stay so" if c.used_pigments
-            else "choose.used_pigments = false",
-        ))  # fmt: skip
+        out.append(
+            Decision(
+                "dry brush",
+                "no fluid" if c.dry_brush else "fluid anyway",
+                "an empty brush over dry canvas moves no paint"
+                if c.dry_brush
+                else "choose.dry_brush = false",
+            )
+        )
+        out.append(
+            Decision(
+                "grid size",
+                "fitted to the brush" if c.fit_grid else "the scene's cells",
+                "choose.fit_grid: the contact height and footprint set the cells (same h)"
+                if c.fit_grid
+                else f"choose.fit_grid = false: {'x'.join(map(str, s.cells))}",
+            )
+        )
+        out.append(
+            Decision(
+                "pigment channels",
+                "only those in use" if c.used_pigments else "all of the canvas's",
+                "unused channels are all zero and stay so"
+                if c.used_pigments
+                else "choose.used_pigments = false",
+            )
+        )
         return out
 
     def _fit(self, fluid: str, lean: float) -> GridFit:

@@ -57,8 +57,14 @@ class StampModel(PaintModel):
         """(nx, ny) bool: columns under the tip's footprint (and on the canvas)."""
         h = self.cell_size_m
         shape = Section(self.preset.tip(pose.splay), section_height_m(pose, h))
-        mask = voxelize(shape, centre_m[:2], yaw_angle(pose.orientation), self.window.origin_m, h,
-                        self.window.cells)  # fmt: skip
+        mask = voxelize(
+            shape,
+            centre_m[:2],
+            yaw_angle(pose.orientation),
+            self.window.origin_m,
+            h,
+            self.window.cells,
+        )
         return mask & self.window.on_canvas()
 
     def _advance(
@@ -88,9 +94,12 @@ class StampModel(PaintModel):
         if deposited.sum() > 0.0:
             q += deposited[:, None, None] / area * (room / room.sum())[None]
         self.window.write_back(
-            self.canvas, q - columns, self.texture(pose, centre_m), gathered=columns,
+            self.canvas,
+            q - columns,
+            self.texture(pose, centre_m),
+            gathered=columns,
             sweep_texels=self.sweep_texels(),
-        )  # fmt: skip
+        )
         report = ExchangeReport(
             swept_m3=float(under.sum()),
             picked_up_m3=float(sum(taken.values())),

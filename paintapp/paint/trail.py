@@ -1,23 +1,18 @@
 """Paint round a moving tip inside the cells: the faces paint crosses, and the tip's trail.
 
 The paint grid's step moves the tip to its new pose in one jump and then transports the paint
-with the tip standing there. Two things then depend on where the tip's surface falls inside a
-cell, and printed that phase into the paint as a row of teeth along a stroke (a comb): the period
-is the distance over which the tip's surface comes back to the same place in a cell, which at a
-steady speed is one sample or two. A voxelized tip opened and closed whole faces, and the paint
-that follows a tip (it drags its neighbourhood along, no-slip) piled up against its trailing
-faces, which stood still during the transport; each jump left that pile behind.
+with the tip standing there, so anything that depends on where the tip's surface falls inside a
+cell prints that phase into the paint as a row of teeth along a stroke (a comb). Two remedies:
 
 * :func:`paint_faces`: paint crosses each face in proportion to its open fraction (the cut-cell
-  geometry's, the same the pressure solve uses), with the face velocity the solver left there
-  (the tip's own where the tip covers the face), so a partly covered face passes part of the
-  flow instead of all or none.
+  geometry's, as in the pressure solve), with the face velocity the solver left there (the tip's
+  own where the tip covers the face), so a partly covered face passes part of the flow.
 * :func:`lay_trail`: after the transport, what a cell holds beyond its capacity (its fluid share,
   :func:`paintapp.paint.exchange.cell_caps`: the pile against the tip's trailing side, and any
-  paint carried into the tip) goes to the room the tip vacated during the step, where moving
-  continuously the tip would have left it: each cell takes a share proportional to the volume
-  fraction the tip left there (:func:`vacated_share`) times its free room. What does not fit goes
-  into the free room round the tip like pushed paint.
+  paint carried into the tip) goes to the room the tip vacated during the step, where a tip
+  moving continuously would have left it: each cell takes a share proportional to the volume
+  fraction the tip left there (:func:`vacated_share`) times its free room. What does not fit
+  goes into the free room round the tip like pushed paint.
 
 Paint stays conserved to round-off and non-negative.
 """
@@ -28,8 +23,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from paintapp.paint.cell_kernels import paint_face_axis, sweep_overlap
 from paintapp.paint.exchange import CellSpace, place_pushed
-from paintapp.paint.kernels import paint_face_axis, sweep_overlap
 from solver import BOUNDARY, FLUID, STATIC_SOLID
 
 #: Smallest fluid fraction an upwind cell's paint concentration is taken over (a cell the tip
@@ -49,7 +44,7 @@ def paint_faces(
     others nothing (``BOUNDARY``); a face beside a tip cell is open in full (paint follows the
     tip). With ``fluid_frac``, a face's flux is spread over its upwind cell's fluid part only (at
     least ``MIN_UPWIND_FLUID`` of it). Without open fractions (voxelized tips) the grid's own.
-    One kernel pass per axis (:func:`paintapp.paint.kernels.paint_face_axis`)."""
+    One kernel pass per axis (:func:`paintapp.paint.cell_kernels.paint_face_axis`)."""
     if open_frac is None:
         return comps, face_types
     fluid = np.zeros((0, 0, 0)) if fluid_frac is None else fluid_frac

@@ -1,27 +1,21 @@
 """Moving the canvas's wet paint with the paint grid's flow, at texel resolution.
 
-The grid's columns are a cell wide (several texels). Transporting the paint in the columns and
-handing each column's change to its texels lays every change out with the same per-column
-weights, so detail finer than a cell (a stroke's edge, a bristle streak) is smoothed to the
-cell and re-drawn on the cell's lattice at every step. Here the grid supplies only the velocity:
-its depth-averaged flow (:mod:`paintapp.paint.texel_velocity`) moves each pigment's wet paint
-over the texels under the grid's on-canvas columns with a limited flux-form upwind scheme
-(:mod:`paintapp.paint.texel_flow`), sub-stepped so that no texel sends out more than it holds.
+Transporting the paint in the grid's columns (a cell wide, several texels) and handing each
+column's change to its texels smooths detail finer than a cell (a stroke's edge, a bristle
+streak) and re-draws it on the cell lattice at every step. Here the grid supplies only the
+velocity: its depth-averaged flow (:mod:`paintapp.paint.texel_velocity`) moves each pigment's wet
+paint over the texels under the on-canvas columns with a limited flux-form upwind scheme
+(:mod:`paintapp.paint.wet_flow_kernels`), sub-stepped so that no texel sends out more than it holds.
 
-Each texel's paint ``P_p`` and wetness ``w`` split into a wet part ``w P_p``, which moves, and a
-dry part ``(1 - w) P_p``, which stays put; afterwards the wetness is the wet share of the new
-total (as :meth:`paintapp.paint.columns.ColumnWindow.write_back` does). Nothing crosses the
-outline of the on-canvas columns, so each pigment is conserved to round-off (the canvas stores
-float32), and no texel goes negative.
+A texel's wet paint ``w P_p`` moves, the dry part stays; the new wetness is the wet share of the
+new total. Nothing crosses the on-canvas columns' outline: each pigment is conserved to round-off
+(float32), no texel goes negative, and texels that do not change are not written.
 
-The flow's thin leading edge (:func:`clear_thin_edges`): the texels it reached that held no
-paint before and are left with at most :data:`paintapp.canvas.model.FILM_FLOOR_M` of paint form
-4-connected patches; each patch is handed back whole to the richest texel beside it when that
-holds more than the patch's richest texel (so the edge runs back into the paint it left instead
-of painting the canvas beyond it, down to sub-femtometre films), and is otherwise gathered into
-its own richest texel. A patch that paint surrounds (no empty texel beside it) is not emptied,
-which would leave a hole: it shares its wet paint evenly with the wet texels beside it. All of
-it conserves each pigment to round-off. Texels that do not change are not written.
+The flow's thin leading edge (:func:`clear_thin_edges`): newly reached texels left with at most
+:data:`paintapp.canvas.model.FILM_FLOOR_M` form 4-connected patches; a patch goes back whole to
+the richest texel beside it if that is richer than the patch's own (the edge runs back into the
+paint instead of painting sub-femtometre films beyond it), else into its own richest texel; a
+patch surrounded by paint shares its wet paint evenly with its wet neighbours (no hole).
 """
 
 from __future__ import annotations
@@ -32,9 +26,9 @@ from scipy.ndimage import find_objects, label
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.canvas.regions import Box
 from paintapp.paint.columns import ColumnWindow, TexelWeights
-from paintapp.paint.texel_flow import advance, substeps_needed
-from paintapp.paint.texel_transfer import FULLY_WET
+from paintapp.paint.columns_kernels import FULLY_WET
 from paintapp.paint.texel_velocity import texel_face_velocity
+from paintapp.paint.wet_flow_kernels import advance, substeps_needed
 
 #: Exponent of the bristle walls' block on the flow across them (:func:`combed`). With 4 a
 #: straight ``round_large`` stroke's fine relief varies 12.3 times more across it than along
@@ -59,8 +53,12 @@ def _paint_box(wet: np.ndarray, margin: int) -> tuple[int, int, int, int] | None
         return None
     cols = np.flatnonzero(wet.any(axis=0))
     ny, nx = wet.shape
-    return (max(cols[0] - margin, 0), max(rows[0] - margin, 0),
-            min(cols[-1] + 1 + margin, nx), min(rows[-1] + 1 + margin, ny))  # fmt: skip
+    return (
+        max(cols[0] - margin, 0),
+        max(rows[0] - margin, 0),
+        min(cols[-1] + 1 + margin, nx),
+        min(rows[-1] + 1 + margin, ny),
+    )
 
 
 def flow_wet_paint(
@@ -81,8 +79,9 @@ def flow_wet_paint(
     wetness = canvas.wetness[y0:y1, x0:x1]
     if not wetness.any():
         return 0
-    ux, vy = texel_face_velocity(face_u, face_v, window.whole_origin(), window.k, region,
-                                 window.texel_m)  # fmt: skip
+    ux, vy = texel_face_velocity(
+        face_u, face_v, window.whole_origin(), window.k, region, window.texel_m
+    )
     n = substeps_needed(ux, vy, dt_s)
     crop = _paint_box(wetness > 0.0, n + 1)
     if crop is None:

@@ -10,8 +10,8 @@ Everything colour-related is computed under one stated viewing condition:
 
 Spectra are sampled on :data:`WAVELENGTHS_NM` (380-780 nm every 5 nm). An sRGB colour becomes a
 spectrum with the Jakob & Hanika (2019) sigmoid model (``colour.recovery.XYZ_to_sd_Jakob2019``):
-it runs offline in about 40 ms, matches the colour exactly under D65, and gives smooth spectra that
-reach close to 0 and 1, which Kubelka-Munk mixing needs to make clean secondaries. The fit is
+it runs offline (once per colour), matches the colour exactly under D65, and gives smooth spectra
+that reach close to 0 and 1, which Kubelka-Munk mixing needs to make clean secondaries. The fit is
 cached per colour, in memory and on disk (see :mod:`paintapp.pigments.spectrum_cache`).
 """
 

@@ -1,4 +1,10 @@
-"""Canvas rendering (moderngl): Kubelka-Munk paint, impasto lighting, brush and force overlays."""
+"""Canvas rendering (moderngl): Kubelka-Munk paint, impasto lighting, brush and force overlays.
+
+Modules: :mod:`.context` the OpenGL contexts and shader programs; :mod:`.textures` the canvas
+on the GPU; :mod:`.renderer` draws it; :mod:`.view` what part is shown and how it is lit;
+:mod:`.overlays` the brush outline and force arrows; :mod:`.finish` waits for the GPU with the
+interpreter lock released; :mod:`.headless` renders a canvas in one call (export, replay, tests).
+"""
 
 from paintapp.render.context import (
     PROGRAM_NAMES,

@@ -10,14 +10,12 @@ and headless export::
 
     rgba = renderer.render_linear_rgba(canvas)   # (H, W, 4) float32, row 0 = canvas bottom
 
-:meth:`CanvasRenderer.render_cached` runs the Kubelka-Munk mixing and the lighting once per
-canvas texel into a cached picture, again only where the canvas changed (and everywhere when the
-pigments, the lighting or the canvas size change), and samples that picture: cheaper than
-:meth:`CanvasRenderer.render` wherever a texel covers more than one output pixel. Both draw only
-inside the context's scissor box, which is how the painting window redraws just what changed.
-
-Output is linear scene-referred RGB with sRGB/Rec.709 primaries under D65 (see
-:mod:`paintapp.pigments.spectra`); alpha is 1 on the canvas.
+:meth:`CanvasRenderer.render_cached` mixes and lights each canvas texel once into a cached
+picture (again only where the canvas changed, everywhere when the pigments, lighting or canvas
+size change) and samples it: cheaper than :meth:`CanvasRenderer.render` wherever a texel covers
+more than one output pixel. Both draw only inside the context's scissor box. Output is linear
+scene-referred RGB with sRGB/Rec.709 primaries under D65 (see :mod:`paintapp.pigments.spectra`);
+alpha is 1 on the canvas.
 """
 
 from __future__ import annotations

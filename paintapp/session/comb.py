@@ -1,29 +1,21 @@
 """How strongly each stroke of a replay carries its own step: the teeth along the stroke's path.
 
 A tip that jumps from one pose to the next, instead of sweeping, can print one tooth per step
-along a fast stroke: the paint height along the path then repeats with every step between stylus
-samples. The measure, per stroke (the in-contact samples, ``pressure > 0``, between two markers
-of the stroke file, its first and last two steps left out): the paint height is read (on the
-cubic spline through the texels) at :data:`PHASES` points along each step, on the centre line and
-2 texels to either side; the *tooth depth* is the peak-to-peak of the mean over the steps at each
-phase, over the mean height, the larger of the three lines. Its *floor* is the same with each
-step's phases rolled by a random amount (the median of :data:`DEALS` deals), which no tooth
-survives: what the path's own relief gives by chance.
+along a fast stroke. Per stroke (the in-contact samples between two markers of the stroke file,
+its first and last two steps left out), the paint height is read (on the cubic spline through the
+texels) at :data:`PHASES` points along each step, on the centre line and 2 texels to either side;
+the *tooth depth* is the peak-to-peak of the mean over the steps at each phase, over the mean
+height, the largest of the three lines. Its *floor*, what the path's own relief gives by chance,
+is the same with each step's phases rolled at random (the median of :data:`DEALS` deals).
 
-Teeth need not repeat at the step: anything that recurs every few steps along a stroke (a grid
-that re-centres on the tip every so many cells, a beat between a sub-step's travel and the cell)
-prints its own period. :func:`period_scan` folds the same three lines at every period from
-:data:`SCAN_MIN_TEXELS` texels to :data:`SCAN_STEPS` steps (chunks of one period along the path's
-arc length, :data:`PHASES` points each), with the same floor (each chunk's phase rolled at
-random); the period whose depth stands highest over its floor (refined between its scanned
-neighbours) is the stroke's worst. The scanned periods are :data:`SCAN_RATIO` apart, which on a
-long stroke is too coarse for a short period (the fold of 70 chunks drifts by most of a period
-between two scanned ones): the step's own sub-multiples (:data:`SUB_STEPS`: the periods of a
-sample split into sub-steps) are folded exactly as well.
+Anything else that recurs every few steps (a grid re-centring, a beat between a sub-step's travel
+and the cell) prints its own period: :func:`period_scan` folds the same lines at periods
+:data:`SCAN_RATIO` apart from :data:`SCAN_MIN_TEXELS` texels to :data:`SCAN_STEPS` steps, and at
+the step's sub-multiples :data:`SUB_STEPS` exactly (the scan is too coarse for them on a long
+stroke), with the same floor; the period standing highest over its floor is the stroke's worst.
 
 ``python -m paintapp.session.comb DIR [STROKES]`` prints both for every stroke of ``STROKES``
-(default: ``DIR/strokes.jsonl``, the strokes as ``paintapp demo`` placed them, else the bundled
-demo strokes) painted in ``DIR/canvas.exr`` (a ``paintapp demo`` folder).
+(default: ``DIR/strokes.jsonl``, else the bundled demo strokes) painted in ``DIR/canvas.exr``.
 """
 
 from __future__ import annotations

@@ -46,8 +46,10 @@ def _counts(session: PaintingSession) -> list[str]:
         ms = ch.step_ms.get(kind, 0.0)
         lines.append(f"  {kind:<15} {n:>5} steps, {solver:>5} solver steps, {ms / 1e3:7.2f} s")
         if ch.stokes_steps.get(kind, 0):
-            lines.append(f"  {'':<15} {ch.stokes_steps[kind]:>5} of them as Stokes flow "
-                         f"(Re < {session.scene.choose.stokes_below_re:g}: no momentum advection)")  # fmt: skip
+            lines.append(
+                f"  {'':<15} {ch.stokes_steps[kind]:>5} of them as Stokes flow "
+                f"(Re < {session.scene.choose.stokes_below_re:g}: no momentum advection)"
+            )
     grids = ", ".join(f"{label}: {n}" for label, n in ch.grids.most_common())
     lines.append(f"grids used (steps): {grids or 'none'}")
     total = len(session.canvas.pigment_names)

@@ -1,30 +1,20 @@
 """The painting session: stylus samples in, paint on the canvas and force samples out.
 
-For each stylus sample (from a tablet, a replayed stroke file, or the servo loop's published
-device state): the canvas dries for the time that passed (``Canvas.dry``); the
-:class:`~brushes.TipTracker` turns the sample into a tip pose over the wet paint surface under
-the tip; while the tip is in contact, the scene's paint model (:mod:`paintapp.paint`) takes the
-step: it drives the tip probe through the local paint grid, trades paint with the brush's
-reservoir and writes the paint back to the canvas. The force and torque on the tip (the solver's
-stress integral) are published to the :class:`~paintapp.haptics.channel.ForceChannel`.
+For each stylus sample (a tablet, a replayed stroke file, or the servo loop's published device
+state): the canvas dries for the time that passed; the :class:`~brushes.TipTracker` turns the
+sample into a tip pose over the wet paint surface; while the tip is in contact, the paint model
+(:mod:`paintapp.paint`) drives the tip probe through the local paint grid, trades paint with the
+brush's reservoir and writes it back to the canvas; the force and torque on the tip are published
+to the :class:`~paintapp.haptics.channel.ForceChannel`. A brush in the air takes no solver steps
+and publishes zero force; a non-finite step is dropped and counted, never published.
 
-Frames: the paint grid's axes are the canvas frame's (x right, y up the canvas, z out of it toward
-the painter), and so are the force channel's and the haptic device's (z up, the canvas plane at a
-known height): force vectors need no rotation, only the paint model's units (N, N m; the
-depth-averaged model multiplies its per-depth force by the wetted depth). The force on the stylus
-is the force on the probe. A brush in the air takes no solver steps and publishes zero force.
-Nothing non-finite is published: such a step is dropped and counted.
+Frames: the paint grid, the force channel and the haptic device all use the canvas frame (x
+right, y up the canvas, z toward the painter): forces need no rotation, only units (N, N m).
 
-The session models only what the scene requires (:mod:`paintapp.paint.choice`): per sample in
-contact a :class:`~paintapp.paint.selector.ModelSelector` picks the paint model (``auto``: 2D
-depth-averaged for thin paint, 3D for thick), the grid size, no fluid for a dry brush, and the
-outputs the device reads (``device``: no force work for an input-only device, no torque for one
-without torque output). Its decisions and counts are :attr:`PaintingSession.decisions` and
-:attr:`PaintingSession.choices`.
-
-Events: ``load_pigment`` dips the brush (and adds the pigment's channel to the canvas),
-``brush`` switches to another preset with a clean brush, ``clean`` empties the brush. Every
-volume entering or leaving the brush this way is booked in ``loaded_m3`` / ``removed_m3``, so
+The session models only what the scene requires (:mod:`paintapp.paint.choice`); its decisions and
+counts are :attr:`PaintingSession.decisions` and :attr:`PaintingSession.choices`. Events:
+``load_pigment`` dips the brush, ``brush`` switches preset with a clean brush, ``clean`` empties
+it; every volume entering or leaving the brush is booked in ``loaded_m3`` / ``removed_m3``, so
 ``canvas + brush == loaded - removed`` per pigment (:func:`paint_inventory`).
 """
 

@@ -1,31 +1,21 @@
 """Replaying a stroke file: the same path as live painting, on a virtual clock.
 
-Stylus samples go from the file to the :class:`~paintapp.session.painting.PaintingSession` (as a tablet's
-would): tip pose, paint grid, canvas, and a force sample published to the force channel at each
-sample's time. The force path is the haptic servo loop (:class:`~paintapp.haptics.servo.ServoLoop`)
-driving a :class:`~paintapp.haptics.devices.stroke_player.ReplayDevice` that plays the same samples, ticking at
-1 kHz on a :class:`~paintapp.haptics.clock.VirtualClock`: after the session handles the sample at
-``t_k`` the loop runs every tick in ``[t_k, t_k+1)``, so each tick sees exactly the force samples
-published before it. Nothing depends on wall time, so a replay is deterministic: the same file
-gives the same canvas and the same force trace.
+Stylus samples go from the file to the :class:`~paintapp.session.painting.PaintingSession` (as a
+tablet's would). The force path is the haptic servo loop
+(:class:`~paintapp.haptics.servo.ServoLoop`) driving a
+:class:`~paintapp.haptics.devices.stroke_player.ReplayDevice` at 1 kHz on a
+:class:`~paintapp.haptics.clock.VirtualClock`: after the session handles the sample at ``t_k`` the
+loop runs every tick in ``[t_k, t_k+1)``, so each tick sees exactly the force samples published
+before it, and the same file gives the same canvas and the same force trace. The trace is the
+loop's tick log: per tick, the force and torque *written to the device* (filtered, scaled, made
+safe), canvas frame. ``device`` names the replay device (a 6-DOF stylus by default,
+:data:`~paintapp.session.replay_devices.REPLAY_DEVICES`); ``fidelity`` applies a preset's fluid
+settings (:mod:`paintapp.paint.fidelity`).
 
-The force trace is the loop's tick log: per tick, its time and the force and torque *written to
-the device* (filtered, scaled by the force scale, made safe), in the canvas frame.
-
-The device the replay plays on is a simulated 6-DOF stylus by default; ``device`` names another
-(:data:`~paintapp.session.replay_devices.REPLAY_DEVICES`: ``3dof`` outputs no torque, ``tablet`` no force at all), and the session
-then models no more than that device reads. ``fidelity`` replays with the fluid settings of a
-preset (:mod:`paintapp.paint.fidelity`) applied on top of the scene.
-
-Long pauses cost bounded work: where a record comes more than :data:`MAX_GAP_S` after the one
-before it (``StrokeFile.gaps``, e.g. a clock that jumped to t = 1e6 s), the pen counts as lifted
-through the pause (the sample after it only places the brush; the canvas still dries for the whole
-pause) and the servo loop runs the first :data:`MAX_GAP_S` of it, then skips to the next record,
-so the force trace has no rows for the rest of the pause (``ReplayResult.skipped_ticks``).
-
-The brush presets a file names (header and ``brush`` events) are checked before any work
-(:func:`check_stroke_names`, which also checks the header's pigments against a library for the
-commands that render), each error naming the file and the line.
+A pause longer than :data:`MAX_GAP_S` (``StrokeFile.gaps``) counts as a lift (the canvas still
+dries through it); the servo loop runs its first :data:`MAX_GAP_S` and skips the rest
+(``ReplayResult.skipped_ticks``). The brush presets and pigments a file names are checked before
+any work (:func:`check_stroke_names`), each error naming the file and the line.
 """
 
 from __future__ import annotations

@@ -15,10 +15,13 @@ REPLAY_DEVICES: dict[str, DeviceInfo] = {
         SIMULATED_INFO, name="simulated 3-DOF stylus", dof_actuated=3, max_torque_nm=0.0
     ),
     "tablet": replace(
-        SIMULATED_INFO, name="pen tablet (no force feedback)", dof_actuated=0,
-        max_force_n=0.0, max_torque_nm=0.0,
+        SIMULATED_INFO,
+        name="pen tablet (no force feedback)",
+        dof_actuated=0,
+        max_force_n=0.0,
+        max_torque_nm=0.0,
     ),
-}  # fmt: skip
+}
 
 
 def replay_device(name: str) -> DeviceInfo:

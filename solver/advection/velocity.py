@@ -16,6 +16,7 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
+from solver.bundles import Velocity
 from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.threads import run_components, run_shared
 from solver.interp import lerp, range_at, velocity_in_cells
@@ -23,15 +24,12 @@ from solver.interp import lerp, range_at, velocity_in_cells
 LINEAR = 0
 MACCORMACK = 1
 SCHEMES = {"linear": LINEAR, "maccormack": MACCORMACK}
-#: What ``SolverSettings.advection`` may name: a scheme, or ``none`` (Stokes flow: the velocity's
-#: self-advection is left out, for flows whose Reynolds number is far below 1).
-ADVECTION_CHOICES = (*SCHEMES, "none")
 #: Slabs per component when the advection shares its threads with other work
 #: (:func:`advect_velocity`'s ``lead``): fine enough that the threads end together.
 SHARED_SLABS = 4
 #: The kernels' floating-point license: each blend ``a + f * (b - a)`` may become one fused
-#: multiply-add (a rounding fewer; no other reordering, NaN and infinity kept as IEEE has them).
-#: The 3D kernel runs 18-20 % faster with it (32^3: 44.8 against 36.3 ns a sample).
+#: multiply-add (a rounding fewer; no other reordering, NaN and infinity kept as IEEE has them),
+#: which speeds up the 3D kernel.
 FUSED = {"contract"}
 
 
@@ -50,23 +48,23 @@ def _trace(u, v, w, dim, gx, gy, gz, c):
 def advect_component(
     q: np.ndarray,
     axis: int,
-    u: np.ndarray,
-    v: np.ndarray,
-    w: np.ndarray,
+    velocity: Velocity,
     dim: int,
     h: float,
     dt: float,
     out: np.ndarray,
-    lo: np.ndarray,
-    hi: np.ndarray,
+    bounds: tuple[np.ndarray, np.ndarray],
     want_range: bool,
 ) -> None:
-    """Advect samples ``q`` of component ``axis`` (-1: cell centres) by ``dt`` into ``out``.
+    """Advect samples ``q`` of component ``axis`` (-1: cell centres) by ``velocity`` (a
+    :class:`~solver.bundles.Velocity` of a ``dim``-D grid) over ``dt`` into ``out``.
 
-    With ``want_range``, ``lo``/``hi`` receive the extrema of the interpolation stencil at each
-    departure point (for MacCormack limiting). Positions are traced in cell units (no division
-    per sample).
+    With ``want_range``, ``bounds`` = (lo, hi) receive the extrema of the interpolation stencil
+    at each departure point (for MacCormack limiting). Positions are traced in cell units (no
+    division per sample).
     """
+    u, v, w = velocity
+    lo, hi = bounds
     nx, ny, nz = q.shape
     ox = 0.0 if axis == 0 else 0.5
     oy = 0.0 if axis == 1 else 0.5
@@ -189,11 +187,13 @@ def advect_face_2d(
             if inner_i and lo_j <= j < hi_j:
                 if axis == 0:
                     ax = u[i, j, 0]
-                    ay = _half(_half(v[i - 1, j, 0], v[i, j, 0]),
-                               _half(v[i - 1, j + 1, 0], v[i, j + 1, 0]))  # fmt: skip
+                    ay = _half(
+                        _half(v[i - 1, j, 0], v[i, j, 0]), _half(v[i - 1, j + 1, 0], v[i, j + 1, 0])
+                    )
                 else:
-                    ax = _half(_half(u[i, j - 1, 0], u[i + 1, j - 1, 0]),
-                               _half(u[i, j, 0], u[i + 1, j, 0]))  # fmt: skip
+                    ax = _half(
+                        _half(u[i, j - 1, 0], u[i + 1, j - 1, 0]), _half(u[i, j, 0], u[i + 1, j, 0])
+                    )
                     ay = v[i, j, 0]
             else:
                 ax, ay, _ = velocity_in_cells(u, v, w, 2, gx, gy, 0.5)
@@ -230,13 +230,14 @@ def advect(
         elif dim == 2 and axis >= 0:
             advect_face_2d(q, axis, u, v, h, dt, out, 0, q.shape[0])
         else:
-            advect_component(q, axis, u, v, w, dim, h, dt, out, out, out, False)
+            advect_component(q, axis, Velocity(u, v, w), dim, h, dt, out, (out, out), False)
         return out
+    mac = Velocity(u, v, w)
     lo = np.empty_like(q)
     hi = np.empty_like(q)
-    advect_component(q, axis, u, v, w, dim, h, dt, out, lo, hi, True)
+    advect_component(q, axis, mac, dim, h, dt, out, (lo, hi), True)
     back = np.empty_like(q)
-    advect_component(out, axis, u, v, w, dim, h, -dt, back, back, back, False)
+    advect_component(out, axis, mac, dim, h, -dt, back, (back, back), False)
     maccormack_correct(q, out, back, lo, hi)
     return out
 

@@ -1,31 +1,21 @@
 """Kernels compiled twice: on the calling thread, and with their ``prange`` loops on numba's threads.
 
 A kernel body written with ``numba.prange`` for its outermost loop is compiled once as a plain
-serial kernel (``prange`` is ``range`` there) and once with ``parallel=True``
-(:func:`serial_and_parallel`). A body whose iterations write disjoint entries and read nothing
-another iteration writes gives the same values, bit for bit, either way; reductions (sums) stay
-in serial kernels, whose order of addition would otherwise depend on the split.
+serial kernel and once with ``parallel=True`` (:func:`serial_and_parallel`). A body whose
+iterations write disjoint entries and read nothing another iteration writes gives the same bits
+either way; reductions (sums) stay serial, their order of addition otherwise split-dependent. The
+twin is a copy of the function named ``<name>_parallel``: numba's on-disk cache keys a kernel by
+qualified name and bytecode, not by compile options.
 
-numba's on-disk cache keys a compiled kernel by its function's qualified name and bytecode, not
-by its compile options, so the parallel twin is compiled from a copy of the function named
-``<name>_parallel``: two kernels under one name would load each other's code from the cache.
+The twins run on numba's threading layer (OpenMP or TBB where present, else its work queue, which
+must not be entered from two threads at once): :func:`parallel_section` sets how many threads and
+keeps two threads of this process from running parallel kernels at the same time. GNU OpenMP's
+threads spin :data:`SPIN_COUNT` turns after a loop unless the environment says otherwise
+(``GOMP_SPINCOUNT``): awake between the loops of one solve, asleep before the solver's own
+component threads need the core (the default 300000 keeps it from them).
 
-The parallel twins run on numba's own threads (its threading layer: OpenMP or TBB where present,
-else its work queue, which must not be entered from two threads at once). A caller sets how many
-with :func:`parallel_section`, which also keeps two threads of this process from running parallel
-kernels at the same time.
-
-GNU OpenMP's threads spin after a parallel loop, waiting for the next, 300000 turns by default:
-long enough to take the core from the solver's own component threads in the sub-step that
-follows (3D 64³, advection 17.9 -> 23.1 ms a step). Unless the environment says otherwise, they
-spin :data:`SPIN_COUNT` turns, which still keeps them awake between the loops of one solve
-(``GOMP_SPINCOUNT``, read when OpenMP is loaded: by this import, just after it is set).
-
-The threading layer is started when this module is imported, before any kernel loads from the
-cache. A serial kernel that calls a parallel twin (the small dispatchers that pick one of the
-two) and was compiled in an earlier process crashed the process when it was loaded from the
-cache into one whose threading layer had not started yet, even on its serial path: a segfault,
-not an exception (numba 0.68, as in numba's issue #8578).
+Importing this module starts the threading layer, before any kernel loads from the cache: a
+dispatcher that calls a parallel twin, loaded before it starts, segfaults (numba issue #8578).
 """
 
 from __future__ import annotations
@@ -55,9 +45,12 @@ def serial_and_parallel(body: Callable[..., Any]) -> tuple[Any, Any]:
     """``body`` compiled as a serial and as a parallel kernel (both cached, ``nogil``)."""
     serial = njit(cache=True, nogil=True)(body)
     twin = types.FunctionType(
-        body.__code__, body.__globals__, body.__name__ + "_parallel", body.__defaults__,
+        body.__code__,
+        body.__globals__,
+        body.__name__ + "_parallel",
+        body.__defaults__,
         body.__closure__,
-    )  # fmt: skip
+    )
     twin.__qualname__ = body.__qualname__ + "_parallel"
     twin.__doc__ = body.__doc__
     twin.__module__ = body.__module__

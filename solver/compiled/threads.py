@@ -8,14 +8,9 @@ two threads at once with the same values, bit for bit, as one after the other.
 calling thread; N >= 2 runs them on the calling thread and N - 1 pool threads; 0 (``auto``) takes
 ``min(AUTO_THREADS, the cores this process may run on)`` threads where a component has at
 least ``AUTO_MIN_SAMPLES[dim]`` samples, and one thread below that, where handing work to a
-sleeping thread costs more than it saves.
-
-The thresholds were measured on a 2-core machine by stepping two copies of the solver
-benchmark's scene in one process, one on a thread and one on two, alternating (ms per step, one
-thread -> two): in 3D 16³ 2.18 -> 2.15 (4352 samples a component), 20³ 3.79 -> 3.36 (8400),
-24³ 4.30 -> 3.56, 32³ 10.5 -> 8.8, 64³ 97 -> 74; in 2D, with two components and less work per
-sample, 64² 1.15 -> 1.39, 128² 3.75 -> 3.69 (16512), 160² 5.91 -> 5.80 (25760), 192² 7.81 ->
-6.66 (37056), 256² 16.7 -> 13.4.
+sleeping thread costs more than it saves. The thresholds are where two threads began to pay on a
+2-core machine (the solver benchmark's scene stepped on one thread and on two, alternating); a 2D
+sample is less work, so 2D needs more of them.
 """
 
 from __future__ import annotations

@@ -1,15 +1,13 @@
 """Between ways of doing the same work, the one that has been cheapest lately, by measurement.
 
 The pressure solve of a large 3D grid can run its multigrid's passes on two threads or on one,
-with the same bits (:mod:`solver.compiled.parallel`). On two free cores the threads win (the
-solver benchmark's 64³ projection: 17.4 / 20.5 against 29.6 / 34.7 ms a step); with the other
-core busy, each of the solve's many short parallel loops waits for a thread the OS has not
-scheduled yet, and one thread wins by 2x (78.4 against 38.8 ms beside a ``yes`` process). Which
-holds depends on what else the machine runs at the moment, so the automatic setting measures
-(:class:`TimedChoice`): every option is tried first; then the one whose last few costs have the
-lowest median runs, and every ``probe_every``-th choice runs the other (cheapest of the rest)
-once more, so that a change of circumstances is noticed. A best option that turns slow loses
-its place as soon as the median of its last costs says so.
+with the same bits (:mod:`solver.compiled.parallel`). On two free cores the threads win; with the
+other core busy, each of the solve's many short parallel loops waits for a thread the OS has not
+scheduled yet, and one thread wins. Which holds depends on what else the machine runs at the
+moment, so the automatic setting measures (:class:`TimedChoice`): every option is tried first;
+then the one whose last few costs have the lowest median runs, and every ``probe_every``-th
+choice runs the other (cheapest of the rest) once more, so that a change of circumstances is
+noticed. A best option that turns slow loses its place as soon as its median says so.
 """
 
 from __future__ import annotations

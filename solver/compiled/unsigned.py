@@ -1,9 +1,8 @@
 """Unsigned index constants for numba kernels.
 
 A kernel that indexes with unsigned integers spares numba's wrap-around test (a negative index
-counts from the end) on every access: a Gauss-Seidel pass ran 2.4x faster, trilinear
-interpolation 1.5-3x. An unsigned value must never meet a signed one in arithmetic (numba would
-give a float), hence these constants for the offsets.
+counts from the end) on every access. An unsigned value must never meet a signed one in
+arithmetic (numba would give a float), hence these constants for the offsets.
 """
 
 from __future__ import annotations

@@ -15,6 +15,8 @@ moves, so the force has no grid-crossing spikes. 2D: N/m and N m/m; 3D: N and N 
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from solver.compiled.jit import kernel
@@ -25,13 +27,25 @@ PROBE_DISTANCE_CELLS = 1.5
 PRESSURE_EXTRAPOLATION = 1.0
 
 
+class SurfacePatches(NamedTuple):
+    """What the cut cells' surface patches are formed from (the arrays of
+    :class:`~solver.cutcell.geometry.CutGeometry` of those names): the open fraction of every
+    face, per component, and the probes' signed distance (m) and nearest probe at the nodes."""
+
+    open_frac: tuple[np.ndarray, ...]
+    phi_node: np.ndarray
+    owner_node: np.ndarray
+
+
 @kernel
-def _relative_velocity(u, v, w, dim, x, y, z, h, rigid, p, out):
-    """Velocity relative to probe ``p``'s rigid motion at (x, y, z) into ``out`` (3,)."""
+def _relative_velocity(velocity, dim, point, h, rigid, p, out):
+    """Velocity relative to probe ``p``'s rigid motion at ``point`` (x, y, z) into ``out`` (3,)."""
+    u, v, w = velocity
+    x, y, z = point
     vx, vy, vz = velocity_at(u, v, w, dim, x, y, z, h)
-    out[0] = vx - rigid_velocity(rigid[0], rigid[1], rigid[2], p, x, y, z, 0)
-    out[1] = vy - rigid_velocity(rigid[0], rigid[1], rigid[2], p, x, y, z, 1)
-    out[2] = (vz - rigid_velocity(rigid[0], rigid[1], rigid[2], p, x, y, z, 2)) if dim == 3 else 0.0
+    out[0] = vx - rigid_velocity(rigid, p, x, y, z, 0)
+    out[1] = vy - rigid_velocity(rigid, p, x, y, z, 1)
+    out[2] = (vz - rigid_velocity(rigid, p, x, y, z, 2)) if dim == 3 else 0.0
 
 
 @kernel
@@ -53,12 +67,16 @@ def _cell_sdf(phi_node, owner_node, dim, i, j, k):
 
 
 @kernel
-def cut_surface_force(
-    wx, wy, wz, phi_node, owner_node, active, lo, hi, u, v, w, pressure, mu_cell, h, dim, rigid,
-    reference, f_pressure, f_viscous, torque,
-):  # fmt: skip
-    """Accumulate per-probe pressure force, viscous force and torque over the cut cells of the
-    window ``lo <= (i, j, k) < hi`` into the outputs (n_probes, 3)."""
+def cut_surface_force(patches, window, fields, h, dim, rigid, reference, out):
+    """Accumulate per-probe pressure force, viscous force and torque over the cut cells of
+    ``window`` (:class:`SurfacePatches` ``patches``, :class:`~solver.bundles.StressFields`
+    ``fields``, the probes' :class:`~solver.staircase.faces.RigidMotion`, torque ``reference``
+    points (n_probes, 3)) into ``out`` (:class:`~solver.bundles.ForceSums`)."""
+    wx, wy, wz = patches.open_frac
+    phi_node, owner_node = patches.phi_node, patches.owner_node
+    lo, hi = window
+    velocity, pressure, mu_cell = fields
+    f_pressure, f_viscous, torque = out
     area = h ** (dim - 1)
     nx, ny, nz = pressure.shape
     delta = PROBE_DISTANCE_CELLS * h
@@ -80,22 +98,26 @@ def cut_surface_force(
                 xs = (i + 0.5) * h - phi_c * n0
                 ys = (j + 0.5) * h - phi_c * n1
                 zs = ((k + 0.5) * h - phi_c * n2) if dim == 3 else 0.5 * h
-                _relative_velocity(u, v, w, dim, xs + delta * n0, ys + delta * n1,
-                                   zs + delta * n2, h, rigid, p, near)  # fmt: skip
-                _relative_velocity(u, v, w, dim, xs + 2 * delta * n0, ys + 2 * delta * n1,
-                                   zs + 2 * delta * n2, h, rigid, p, far)  # fmt: skip
+                near_point = (xs + delta * n0, ys + delta * n1, zs + delta * n2)
+                _relative_velocity(velocity, dim, near_point, h, rigid, p, near)
+                far_point = (xs + 2 * delta * n0, ys + 2 * delta * n1, zs + 2 * delta * n2)
+                _relative_velocity(velocity, dim, far_point, h, rigid, p, far)
                 ci = min(max(int((xs + delta * n0) / h), 0), nx - 1)
                 cj = min(max(int((ys + delta * n1) / h), 0), ny - 1)
                 ck = min(max(int((zs + delta * n2) / h), 0), nz - 1)
                 mu = mu_cell[ci, cj, ck]
                 p1 = sample(pressure, -1, xs + delta * n0, ys + delta * n1, zs + delta * n2, h)
-                p2 = sample(pressure, -1, xs + 2 * delta * n0, ys + 2 * delta * n1,
-                            zs + 2 * delta * n2, h)  # fmt: skip
+                p2 = sample(
+                    pressure, -1, xs + 2 * delta * n0, ys + 2 * delta * n1, zs + 2 * delta * n2, h
+                )
                 pc = p1 + PRESSURE_EXTRAPOLATION * (p1 - p2)
                 dfp = (-pc * sx, -pc * sy, -pc * sz)
                 scale = mu * mag / (2.0 * delta)
-                dfv = (scale * (4.0 * near[0] - far[0]), scale * (4.0 * near[1] - far[1]),
-                       scale * (4.0 * near[2] - far[2]))  # fmt: skip
+                dfv = (
+                    scale * (4.0 * near[0] - far[0]),
+                    scale * (4.0 * near[1] - far[1]),
+                    scale * (4.0 * near[2] - far[2]),
+                )
                 rx = xs - reference[p, 0]
                 ry = ys - reference[p, 1]
                 rz = (zs - reference[p, 2]) if dim == 3 else 0.0

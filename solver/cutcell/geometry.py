@@ -1,42 +1,28 @@
 """Cut-cell geometry of the moving probes: open face fractions and fluid volume fractions.
 
-Every step the probes' signed distances are sampled at the grid nodes (cell corners), at the
-velocity sample points (face centres) and at the cell centres (which give the voxelized label),
-only in a window around each probe, in one call of the probe's SDF (3D: at the nodes only, the
-face and cell centres taking the mean of their corners). From the node values:
+Every step the probes' signed distances are sampled in a window around each probe at the grid
+nodes, face and cell centres (3D: the nodes only, the others the mean of their corners):
 
 * the **open fraction** ``w`` of every face, its weight in the pressure projection. 2D: the fluid
-  share of the face's staggered control volume (the cell-sized square from one cell centre to the
-  next across the face, Batty, Bertails & Bridson 2007), by the square rule on its corners, the
-  other component's face centres; 3D: the part of the face's area outside all probes, by the
-  square rule on its corner nodes. A face's open *length* jumps where a surface runs along the
-  face: behind a towed disk the faces at its rear pole opened from 0 to 1 within a fiftieth of a
-  cell of travel, and each opening dipped the drag for a step (D/h 16: largest jump 3.67 % of
-  the mean drag with lengths, 2.96 % with control volumes; at 0.6 m/s 4.78 against 2.18 %; the
-  paper's square sweep at 64^2, force / torque noise 0.113 / 0.995 against 0.041 / 0.346). A
-  control volume's fluid share changes smoothly as a surface crosses it. Fractions below
-  ``MIN_FRACTION`` are closed (no tiny cut faces in the
-  pressure matrix: a sliver of a face between a probe and a wall would otherwise carry the
-  probe's whole displaced volume, hundreds of m/s, into the flow; a cell whose faces are all
-  closed leaves the pressure system);
-* the **fluid fraction** of every cell (2D: the square rule on its corners; 3D: the mean of its
-  six faces' open fractions);
-* the probe that owns each face's solid part (the nearest surface), whose rigid velocity enters
-  there.
-
-A box probe's corners can be rounded at the grid's scale (``SolverSettings.corner_radius_cells``,
-passed to :meth:`CutGeometry.update` in metres): a corner sharper than a cell cannot be resolved,
-and its pressure singularity, sampled wherever the corner sits in its cell, adds to the force's
-jitter as the corner crosses cells.
+  share of the face's staggered control volume (Batty, Bertails & Bridson 2007), which, unlike
+  the face's open length, changes smoothly as a surface crosses it; 3D: the part of the face's
+  area outside all probes. Both by the square rule on corner values. Fractions below
+  ``MIN_FRACTION`` are closed (a sliver of a face between a probe and a wall would otherwise
+  carry the probe's whole displaced volume into the flow; a cell with all faces closed leaves
+  the pressure system);
+* each cell's **fluid fraction** (2D: the square rule on its corners; 3D: its faces' mean ``w``);
+* each face's solid part's owner (the nearest probe), whose rigid velocity enters there.
 
 Arrays are stored like the MAC samples (``[i, j, k]``, x first); outside the probes' windows
-``w = 1``, fluid fraction 1, signed distance ``FAR``, owner -1.
+``w = 1``, fluid fraction 1, signed distance ``FAR``, owner -1. A box probe's corners can be
+rounded (``SolverSettings.corner_radius_cells``, given to :meth:`CutGeometry.update` in metres).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -148,20 +134,44 @@ def open_fractions(phi_node, phi_other, owner_node, dim, axis, lo, hi, w, owner,
                     o = owner_node[i, j, 0] if a <= b else owner_node[i1, j1, 0]
                 else:
                     if axis == 0:
-                        c = (phi_node[i, j, k], phi_node[i, j + 1, k], phi_node[i, j + 1, k + 1],
-                             phi_node[i, j, k + 1])  # fmt: skip
-                        oo = (owner_node[i, j, k], owner_node[i, j + 1, k],
-                              owner_node[i, j + 1, k + 1], owner_node[i, j, k + 1])  # fmt: skip
+                        c = (
+                            phi_node[i, j, k],
+                            phi_node[i, j + 1, k],
+                            phi_node[i, j + 1, k + 1],
+                            phi_node[i, j, k + 1],
+                        )
+                        oo = (
+                            owner_node[i, j, k],
+                            owner_node[i, j + 1, k],
+                            owner_node[i, j + 1, k + 1],
+                            owner_node[i, j, k + 1],
+                        )
                     elif axis == 1:
-                        c = (phi_node[i, j, k], phi_node[i + 1, j, k], phi_node[i + 1, j, k + 1],
-                             phi_node[i, j, k + 1])  # fmt: skip
-                        oo = (owner_node[i, j, k], owner_node[i + 1, j, k],
-                              owner_node[i + 1, j, k + 1], owner_node[i, j, k + 1])  # fmt: skip
+                        c = (
+                            phi_node[i, j, k],
+                            phi_node[i + 1, j, k],
+                            phi_node[i + 1, j, k + 1],
+                            phi_node[i, j, k + 1],
+                        )
+                        oo = (
+                            owner_node[i, j, k],
+                            owner_node[i + 1, j, k],
+                            owner_node[i + 1, j, k + 1],
+                            owner_node[i, j, k + 1],
+                        )
                     else:
-                        c = (phi_node[i, j, k], phi_node[i + 1, j, k], phi_node[i + 1, j + 1, k],
-                             phi_node[i, j + 1, k])  # fmt: skip
-                        oo = (owner_node[i, j, k], owner_node[i + 1, j, k],
-                              owner_node[i + 1, j + 1, k], owner_node[i, j + 1, k])  # fmt: skip
+                        c = (
+                            phi_node[i, j, k],
+                            phi_node[i + 1, j, k],
+                            phi_node[i + 1, j + 1, k],
+                            phi_node[i, j + 1, k],
+                        )
+                        oo = (
+                            owner_node[i, j, k],
+                            owner_node[i + 1, j, k],
+                            owner_node[i + 1, j + 1, k],
+                            owner_node[i, j + 1, k],
+                        )
                     f = 1.0 - fraction_inside_square(c[0], c[1], c[2], c[3])
                     o = oo[0]
                     best = c[0]
@@ -183,9 +193,11 @@ def fluid_fractions(phi_node, wx, wy, wz, dim, lo, hi, out):
             for k in range(lo[2], hi[2]):
                 if dim == 2:
                     out[i, j, k] = 1.0 - fraction_inside_square(
-                        phi_node[i, j, 0], phi_node[i + 1, j, 0], phi_node[i + 1, j + 1, 0],
+                        phi_node[i, j, 0],
+                        phi_node[i + 1, j, 0],
+                        phi_node[i + 1, j + 1, 0],
                         phi_node[i, j + 1, 0],
-                    )  # fmt: skip
+                    )
                 else:
                     s = wx[i, j, k] + wx[i + 1, j, k] + wy[i, j, k] + wy[i, j + 1, k]
                     s += wz[i, j, k] + wz[i, j, k + 1]
@@ -212,27 +224,42 @@ def _fill(a, lo, hi, value):
                 a[i, j, k] = value
 
 
+class CutArrays(NamedTuple):
+    """The arrays of a :class:`CutGeometry` (the same arrays, not copies), as its kernels take
+    them."""
+
+    phi_node: np.ndarray
+    owner_node: np.ndarray
+    phi_face: tuple[np.ndarray, ...]
+    open_frac: tuple[np.ndarray, ...]
+    owner_face: tuple[np.ndarray, ...]
+    owner_sample: tuple[np.ndarray, ...]
+    fluid_frac: np.ndarray
+    phi_cell: np.ndarray
+    owner_cell: np.ndarray
+
+
 @kernel
-def reset_window(lo, hi, dim, phi_node, owner_node, fluid_frac, phi_cell, owner_cell, phi_face,
-                 open_frac, owner_face, owner_sample):  # fmt: skip
-    """Clear a probe's window of cells ``lo..hi`` back to no probe at all: its nodes (one more
-    along each of the grid's axes), cells and the faces of each component (one more along the
-    component's axis). In one call: as numpy slice assignments it cost 19 us at 64², 57 at 32³."""
+def reset_window(lo, hi, dim, arrays):
+    """Clear a probe's window of cells ``lo..hi`` back to no probe at all in the geometry's
+    ``arrays`` (:class:`CutArrays`): its nodes (one more along each of the grid's axes), cells and
+    the faces of each component (one more along the component's axis), in one compiled pass
+    rather than a numpy slice assignment per array."""
     node_hi = hi.copy()
     for a in range(dim):
         node_hi[a] += 1
-    _fill(phi_node, lo, node_hi, FAR)
-    _fill(owner_node, lo, node_hi, -1)
-    _fill(fluid_frac, lo, hi, 1.0)
-    _fill(phi_cell, lo, hi, FAR)
-    _fill(owner_cell, lo, hi, -1)
+    _fill(arrays.phi_node, lo, node_hi, FAR)
+    _fill(arrays.owner_node, lo, node_hi, -1)
+    _fill(arrays.fluid_frac, lo, hi, 1.0)
+    _fill(arrays.phi_cell, lo, hi, FAR)
+    _fill(arrays.owner_cell, lo, hi, -1)
     for a in range(3):
         face_hi = hi.copy()
         face_hi[a] += 1
-        _fill(phi_face[a], lo, face_hi, FAR)
-        _fill(open_frac[a], lo, face_hi, 1.0)
-        _fill(owner_face[a], lo, face_hi, -1)
-        _fill(owner_sample[a], lo, face_hi, -1)
+        _fill(arrays.phi_face[a], lo, face_hi, FAR)
+        _fill(arrays.open_frac[a], lo, face_hi, 1.0)
+        _fill(arrays.owner_face[a], lo, face_hi, -1)
+        _fill(arrays.owner_sample[a], lo, face_hi, -1)
 
 
 @dataclass
@@ -281,11 +308,25 @@ class CutGeometry:
             owner_cell=np.full(grid.cells, -1, dtype=np.int32),
         )
 
+    @property
+    def arrays(self) -> CutArrays:
+        """The geometry's arrays, as its kernels take them."""
+        return CutArrays(
+            self.phi_node,
+            self.owner_node,
+            self.phi_face,
+            self.open_frac,
+            self.owner_face,
+            self.owner_sample,
+            self.fluid_frac,
+            self.phi_cell,
+            self.owner_cell,
+        )
+
     def _reset(self, dim: int) -> None:
+        arrays = self.arrays
         for lo, hi in self.windows:
-            reset_window(lo, hi, dim, self.phi_node, self.owner_node, self.fluid_frac,
-                         self.phi_cell, self.owner_cell, self.phi_face, self.open_frac,
-                         self.owner_face, self.owner_sample)  # fmt: skip
+            reset_window(lo, hi, dim, arrays)
         self.windows = []
 
     def shift(self, offset: tuple[int, int, int], cells: tuple[int, int, int]) -> bool:
@@ -336,9 +377,18 @@ class CutGeometry:
         for lo, hi in self.windows:
             for a in range(d):
                 face_hi = hi + UNIT[a]
-                open_fractions(self.phi_node, self.phi_face[1 - a] if d == 2 else self.phi_node,
-                               self.owner_node, d, a, lo, face_hi,
-                               self.open_frac[a], self.owner_face[a], layers)  # fmt: skip
+                open_fractions(
+                    self.phi_node,
+                    self.phi_face[1 - a] if d == 2 else self.phi_node,
+                    self.owner_node,
+                    d,
+                    a,
+                    lo,
+                    face_hi,
+                    self.open_frac[a],
+                    self.owner_face[a],
+                    layers,
+                )
             wx, wy, wz = self.open_frac
             fluid_fractions(self.phi_node, wx, wy, wz, d, lo, hi, self.fluid_frac)
 
@@ -408,8 +458,11 @@ def _lattice_sdf(
     lattice_offsets_3d(origin, lo, h, 2, centre, rel)
     node = np.ascontiguousarray(shape.sdf(rel @ rot), dtype=float)
     nx, ny, nz = node.shape
-    faces = [np.empty((nx, ny - 1, nz - 1)), np.empty((nx - 1, ny, nz - 1)),
-             np.empty((nx - 1, ny - 1, nz))]  # fmt: skip
+    faces = [
+        np.empty((nx, ny - 1, nz - 1)),
+        np.empty((nx - 1, ny, nz - 1)),
+        np.empty((nx - 1, ny - 1, nz)),
+    ]
     cell = np.empty((nx - 1, ny - 1, nz - 1))
     node_means(node, faces[0], faces[1], faces[2], cell)
     return [node, *faces, cell]
@@ -496,9 +549,19 @@ def _sample_sdf(
     lattice = (np.asarray(grid.origin_m, dtype=float), lo, grid.cell_size_m)
     if d == 2:  # every sub-lattice in one pass
         (sdf,) = _lattice_sdf(probe, shape, lattice, counts)
-        take_closer_2d(sdf, lo, index, geo.phi_node, geo.owner_node, geo.phi_face[0],
-                       geo.owner_sample[0], geo.phi_face[1], geo.owner_sample[1], geo.phi_cell,
-                       geo.owner_cell)  # fmt: skip
+        take_closer_2d(
+            sdf,
+            lo,
+            index,
+            geo.phi_node,
+            geo.owner_node,
+            geo.phi_face[0],
+            geo.owner_sample[0],
+            geo.phi_face[1],
+            geo.owner_sample[1],
+            geo.phi_cell,
+            geo.owner_cell,
+        )
         return
     targets = [(geo.phi_node, geo.owner_node)]
     targets += [(geo.phi_face[a], geo.owner_sample[a]) for a in range(d)]
@@ -519,8 +582,9 @@ def _closer(phi, owner, i, j, value, index, inside_only):
 
 
 @kernel
-def take_closer_2d(sdf, lo, index, phi_node, owner_node, phi_fx, owner_fx, phi_fy, owner_fy,
-                   phi_cell, owner_cell):  # fmt: skip
+def take_closer_2d(
+    sdf, lo, index, phi_node, owner_node, phi_fx, owner_fx, phi_fy, owner_fy, phi_cell, owner_cell
+):
     """:func:`_take_closer` for each sub-lattice of a 2D half-cell lattice's SDF ``sdf`` (from
     cell ``lo``) in one pass: the nodes (even, even), the x faces (even, odd), the y faces (odd,
     even) and the cell centres (odd, odd; owned only where inside)."""

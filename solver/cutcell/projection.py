@@ -16,16 +16,29 @@ its neighbours (:func:`fill_fresh_pressure`), so the incremental scheme sees no 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
 from solver.boundary import OUTFLOW
+from solver.bundles import Velocity, Window
 from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.layers import layer_count
 from solver.compiled.unsigned import U0, U1
 from solver.labels import FLUID
 from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
-from solver.staircase.faces import rigid_velocity
+from solver.staircase.faces import RigidMotion, rigid_velocity
+
+
+class CutFaces(NamedTuple):
+    """The probes' cut faces as the projection sees them: the open fraction and the owner of the
+    solid part of every face, per component (the arrays of
+    :class:`~solver.cutcell.geometry.CutGeometry` of those names), and the owners' rigid motion,
+    which a face's solid part moves with."""
+
+    open_frac: tuple[np.ndarray, ...]
+    owner_face: tuple[np.ndarray, ...]
+    rigid: RigidMotion
 
 
 @inline_kernel
@@ -58,20 +71,22 @@ def _matrix_weight(static, kinds, wf, i, j, k, b, s, shape):
 
 
 @kernel
-def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, offz, active,
-                              lo, hi, layers):  # fmt: skip
+def build_cut_pressure_system(static, dim, kinds, open_frac, sys_out, window, layers):
     """Assemble the face-weighted Poisson matrix (the one place it is built; a preconditioner
-    may be built on ``diag``/``off*``/``active``), in the cells ``lo <= (i, j, k) < hi`` (clipped
-    to the grid; the rest of the outputs is left as it is).
+    may be built on ``diag``/``off*``/``active``), in the cells of ``window`` (clipped to the
+    grid; the rest of the outputs is left as it is).
 
     Args:
         static: cell labels without the probes (``FLUID`` or ``STATIC_SOLID``).
         kinds: domain side kinds (3, 2).
-        wx, wy, wz: open face fractions of the probes.
-        diag, offx, offy, offz, active: outputs, cells' shape.
-        lo, hi: (3,) int64, the box of cells to assemble.
+        open_frac: (wx, wy, wz), open face fractions of the probes.
+        sys_out: outputs (diag, offx, offy, offz, active), cells' shape.
+        window: the :class:`~solver.bundles.Window` of cells to assemble.
         layers: as :func:`solver.compiled.layers.layer_count` gives it.
     """
+    wx, wy, wz = open_frac
+    diag, offx, offy, offz, active = sys_out
+    lo, hi = window
     nx, ny, nz = static.shape
     shape = (nx, ny, nz)
     ws = (wx, wy, wz)
@@ -96,9 +111,11 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
                     and static[ui + U1, uj, uk] == FLUID
                     and static[ui, uj - U1, uk] == FLUID
                     and static[ui, uj + U1, uk] == FLUID
-                    and (not three or (static[ui, uj, uk - U1] == FLUID
-                                       and static[ui, uj, uk + U1] == FLUID))
-                ):  # fmt: skip
+                    and (
+                        not three
+                        or (static[ui, uj, uk - U1] == FLUID and static[ui, uj, uk + U1] == FLUID)
+                    )
+                ):
                     d = 0.0
                     d += wx[ui, uj, uk]
                     w = wx[ui + U1, uj, uk]
@@ -139,7 +156,7 @@ def build_cut_pressure_system(static, dim, kinds, wx, wy, wz, diag, offx, offy, 
 
 
 @kernel
-def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers):
+def cut_flux(velocity, faces, active, dim, h, out, layers):
     """Net outward flux per active cell through the fluid and solid parts of its faces (m/s).
 
     A face on the domain's side carries its prescribed (side) velocity on its fluid part and, where
@@ -148,14 +165,18 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers
     in through the side), instead of the fluid being drawn in through the cell's open sliver at the
     solid's speed over the sliver's fraction (a box entering the domain at 3 m/s: 15.7 m/s through
     a face 16 % open). In a closed domain the probe's entry is then a net inflow, which the
-    projection spreads over all cells (it removes the mean). ``layers``: as
+    projection spreads over all cells (it removes the mean). ``velocity``: the
+    :class:`~solver.bundles.Velocity`; ``faces``: the :class:`CutFaces`; ``layers``: as
     :func:`solver.compiled.layers.layer_count` gives it."""
+    u, v, w = velocity
+    wx, wy, wz = faces.open_frac
+    ox, oy, oz = faces.owner_face
+    rigid = faces.rigid
     nx, ny, nz = out.shape
     nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.compiled.layers)
     comps = (u, v, w)
     ws = (wx, wy, wz)
     owners = (ox, oy, oz)
-    centre, vel, omega = rigid[0], rigid[1], rigid[2]
     three = dim == 3
     for i in range(nx):
         ui = np.uint64(i)
@@ -194,7 +215,7 @@ def cut_flux(u, v, w, wx, wy, wz, ox, oy, oz, active, dim, h, rigid, out, layers
                             x = (fi + (0.0 if b == 0 else 0.5)) * h
                             y = (fj + (0.0 if b == 1 else 0.5)) * h
                             z = (fk + (0.0 if b == 2 else 0.5)) * h
-                            us = rigid_velocity(centre, vel, omega, o, x, y, z, b)
+                            us = rigid_velocity(rigid, o, x, y, z, b)
                             q = f * q + (1.0 - f) * us
                         total += s * q
                 out[i, j, k] = total
@@ -207,7 +228,7 @@ def subtract_cut_gradient(q, static, kinds, wf, axis, active, phi, h):
     Faces between two cells take an unsigned-indexed loop without side tests; the two planes
     of faces on the domain's sides the general one (an outflow side is a zero-pressure
     ghost). A 2D grid (one layer) skips the loop over its single layer: an innermost loop of
-    one pass cost 5-7x the work itself (15 -> 2.3-3.3 us at 64², 55-69 -> 8-9 us at 128²)."""
+    one pass costs several times the work itself."""
     nx, ny, nz = q.shape
     n_axis = static.shape[axis]
     di = U1 if axis == 0 else U0
@@ -345,13 +366,16 @@ def pressure_system(
     hi``, clipped to the grid) only the entries in them: the rest must already hold this
     matrix)."""
     system = out if out is not None else StencilSystem.empty(static.shape, dim)  # type: ignore[arg-type]
-    wx, wy, wz = open_frac
     ox, oy, oz = system.off
+    sys_out = (system.diag, ox, oy, oz, system.active)
     if boxes is None or out is None:
         boxes = [(np.zeros(3, dtype=np.int64), np.array(static.shape, dtype=np.int64))]
+    weights = tuple(open_frac)
     for lo, hi in boxes:
-        build_cut_pressure_system(static, dim, kinds, wx, wy, wz, system.diag, ox, oy, oz,
-                                  system.active, lo, hi, layer_count(static.shape))  # fmt: skip
+        window = Window(lo, hi)
+        build_cut_pressure_system(
+            static, dim, kinds, weights, sys_out, window, layer_count(static.shape)
+        )
     return system
 
 
@@ -359,9 +383,7 @@ def project_cut(
     comps: list[np.ndarray],
     system: StencilSystem,
     static: np.ndarray,
-    open_frac: Sequence[np.ndarray],
-    owner_face: Sequence[np.ndarray],
-    rigid: np.ndarray,
+    faces: CutFaces,
     h: float,
     kinds: np.ndarray,
     phi: np.ndarray,
@@ -369,17 +391,14 @@ def project_cut(
     max_iter: int,
     linear_solve: LinearSolve = solve,
 ) -> SolveReport:
-    """Make the velocity discretely divergence-free on the cut geometry, in place; ``phi`` is the
-    warm start and the result (``p dt / rho`` or its increment); ``linear_solve`` as in
+    """Make the velocity discretely divergence-free on the cut geometry (``static`` labels, the
+    probes' cut ``faces``, side ``kinds``), in place; ``phi`` is the warm start and the result
+    (``p dt / rho`` or its increment); ``linear_solve`` as in
     :func:`solver.staircase.projection.project`."""
     dim = system.dim
     flux = np.empty(static.shape)
-    u, v, w = comps
-    wx, wy, wz = open_frac
-    ox, oy, oz = owner_face
-    cut_flux(
-        u, v, w, wx, wy, wz, ox, oy, oz, system.active, dim, h, rigid, flux, layer_count(flux.shape)
-    )
+    velocity = Velocity(comps[0], comps[1], comps[2])
+    cut_flux(velocity, faces, system.active, dim, h, flux, layer_count(flux.shape))
     closed = not (kinds[:dim] == OUTFLOW).any()
     if phi.flags.c_contiguous:
         pressure_rhs(flux.reshape(-1), system.active.reshape(-1), h, closed, phi.reshape(-1))
@@ -388,5 +407,5 @@ def project_cut(
         phi[~system.active] = 0.0
     report = linear_solve(system, flux, phi, tol, max_iter)
     for a in range(dim):
-        subtract_cut_gradient(comps[a], static, kinds, open_frac[a], a, system.active, phi, h)
+        subtract_cut_gradient(comps[a], static, kinds, faces.open_frac[a], a, system.active, phi, h)
     return report

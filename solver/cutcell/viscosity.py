@@ -1,28 +1,26 @@
 """Implicit viscosity with no-slip at the probes' true surfaces (cut-cell geometry).
 
-The same backward Euler system as :mod:`solver.staircase.viscosity` (per component, the per-cell dynamic
-viscosity field, the optional linear drag, symmetric and positive definite), except that a velocity
-sample whose neighbour along an axis lies inside a probe is coupled to the probe's surface
-itself: the surface sits at the fraction ``theta = phi_f / (phi_f - phi_nb)`` of the way (from the
-two samples' signed distances), and the linear ghost value through the surface's rigid velocity
-``u_ghost = u + (u_wall - u) / theta`` (Gibou et al. 2002) adds ``c / theta`` to the diagonal and
-``c u_wall / theta`` to the right-hand side. The matrix stays an M-matrix: unconditionally stable.
-``theta`` is clamped below at ``MIN_THETA``: a sample closer to the surface than that is coupled as
-if it stood that far, which keeps the coupling from jumping as the surface sweeps across the sample.
-Samples inside a probe are relaxed towards its rigid velocity with their depth (see
-:func:`mark_probe_samples`); those of fully closed faces hold it.
+The same backward Euler system as :mod:`solver.staircase.viscosity` (per component, the per-cell
+dynamic viscosity field, the optional linear drag, symmetric and positive definite), except that a
+velocity sample whose neighbour along an axis lies inside a probe is coupled to the probe's
+surface itself: the surface sits at the fraction ``theta = phi_f / (phi_f - phi_nb)`` of the way
+(from the two samples' signed distances), and the linear ghost value through the surface's rigid
+velocity ``u_ghost = u + (u_wall - u) / theta`` (Gibou et al. 2002) adds ``c / theta`` to the
+diagonal and ``c u_wall / theta`` to the right-hand side. The matrix stays an M-matrix:
+unconditionally stable. ``theta`` is clamped below at ``MIN_THETA``: a sample closer to the
+surface is coupled as if it stood that far, so the coupling does not jump as the surface sweeps
+across the sample. Samples inside a probe are relaxed towards its rigid velocity with their depth
+(:func:`mark_probe_samples`); those of fully closed faces hold it.
 
-Both constants were chosen by measurement (``benchmarks/bench_boundary.py``, a towed disk at D/h
-5.8, 7.7 and 12.8 and circular Couette at 64²): with ``MIN_THETA`` 0.1 and samples inside keeping
-their advected value, the towed disk's drag noise was 2.2 / 3.5 / 2.0 % (HF RMS of the mean drag);
-with 0.25 and the relaxation over half a cell it is 1.7 / 2.9 / 1.0 %. A larger clamp smooths the
-force further (0.5: 0.43 % at D/h 12.8) but shifts the no-slip surface: the Couette torque error
-goes from +0.6 % (0.25) to +2.4 % (0.35) and +6.3 % (0.5).
+Both choices trade the force's noise (a towed disk's drag) against where the no-slip surface sits
+(circular Couette's torque), in ``benchmarks/bench_boundary.py``: a larger clamp smooths the
+force further but shifts the surface.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,22 +29,44 @@ from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.layers import layer_count
 from solver.labels import BOUNDARY, FREE, INTERIOR
 from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
-from solver.staircase.faces import rigid_velocity
-from solver.staircase.viscosity import _surface_velocity, face_viscosity
+from solver.staircase.faces import Component, RigidMotion, rigid_velocity
+from solver.staircase.viscosity import (
+    Diffusion,
+    DiffusionArrays,
+    ViscousStep,
+    _surface_velocity,
+    face_viscosity,
+)
 
 MIN_THETA = 0.25
 INSIDE_RELAX_CELLS = 0.5
 
 
+class CutWalls(NamedTuple):
+    """The probes as the cut viscosity solve's walls: :class:`solver.staircase.viscosity.Walls`
+    (the static labels, the rigid motion, the cell size ``h``, m) and the probes' signed
+    distance ``phi`` (m) and nearest probe ``owner`` at one component's samples."""
+
+    label: np.ndarray
+    rigid: RigidMotion
+    h: float
+    phi: np.ndarray
+    owner: np.ndarray
+
+
 @kernel
-def mark_probe_samples(face_type, q, phi, owner, open_frac, axis, lo, hi, rigid, h, relax):
-    """Samples of component ``axis`` inside a probe (``phi <= 0``) in the window are left out of
+def mark_probe_samples(comp, walls, open_frac, window, relax):
+    """Samples of component ``comp`` inside a probe (``phi <= 0`` of the :class:`CutWalls`
+    ``walls``) in ``window`` (``open_frac`` the component's open fractions) are left out of
     the viscosity solve (``BOUNDARY``); those of fully closed faces take the owning probe's rigid
     velocity. Those of partly open faces keep their (advected) value where they have just been
     crossed and are pulled towards the rigid velocity with depth, reaching it
     ``INSIDE_RELAX_CELLS`` deep: a sample's value never jumps as the surface sweeps across it, and
     a sample deep inside does not carry the pressure corrections of many steps. The relaxation is
     once per step (``relax``); a grid shift re-marks the samples without it."""
+    q, face_type, axis = comp
+    phi, owner, rigid, h = walls.phi, walls.owner, walls.rigid, walls.h
+    lo, hi = window
     for i in range(lo[0], hi[0]):
         for j in range(lo[1], hi[1]):
             for k in range(lo[2], hi[2]):
@@ -58,7 +78,7 @@ def mark_probe_samples(face_type, q, phi, owner, open_frac, axis, lo, hi, rigid,
                 x = (i + (0.0 if axis == 0 else 0.5)) * h
                 y = (j + (0.0 if axis == 1 else 0.5)) * h
                 z = (k + (0.0 if axis == 2 else 0.5)) * h
-                us = rigid_velocity(rigid[0], rigid[1], rigid[2], o, x, y, z, axis)
+                us = rigid_velocity(rigid, o, x, y, z, axis)
                 keep = 0.0
                 if open_frac[i, j, k] > 0.0:
                     if not relax:
@@ -68,16 +88,19 @@ def mark_probe_samples(face_type, q, phi, owner, open_frac, axis, lo, hi, rigid,
 
 
 @kernel
-def _cut_coupling(phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
-    """(1 / theta, wall velocity) for the sample (i, j, k) whose neighbour (ii, jj, kk) along
-    ``b`` (direction ``s``) lies inside a probe."""
+def _cut_coupling(walls, axis, face, nb, b, s):
+    """(1 / theta, wall velocity) for the sample ``face`` (i, j, k) whose neighbour ``nb``
+    (ii, jj, kk) along ``b`` (direction ``s``) lies inside a probe (``walls`` a :class:`CutWalls`)."""
+    phi, owner, rigid, h = walls.phi, walls.owner, walls.rigid, walls.h
+    i, j, k = face
+    ii, jj, kk = nb
     pf, pn = phi[i, j, k], phi[ii, jj, kk]
     theta = pf / (pf - pn) if pf - pn > 0.0 else 1.0
     theta = max(theta, MIN_THETA)
     x = (i + (0.0 if axis == 0 else 0.5) + s * theta * (b == 0)) * h
     y = (j + (0.0 if axis == 1 else 0.5) + s * theta * (b == 1)) * h
     z = (k + (0.0 if axis == 2 else 0.5) + s * theta * (b == 2)) * h
-    wall = rigid_velocity(rigid[0], rigid[1], rigid[2], owner[ii, jj, kk], x, y, z, axis)
+    wall = rigid_velocity(rigid, owner[ii, jj, kk], x, y, z, axis)
     return 1.0 / theta, wall
 
 
@@ -92,14 +115,17 @@ def _side(wall, own, d, r, velocity):
 
 
 @kernel
-def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag, offx,
-                   offy, offz, active, rhs):  # fmt: skip
+def _short_rows_3d(comp, coeffs, sides, out):
     """The short path of :func:`build_cut_system` on a 3D grid, a row at a time along z: each
     sample's sums are formed as if it and its neighbours within the domain were unknowns, and
     written with ``active`` saying whether they are (the general path then overwrites every
     sample that is not). A row's samples away from the sides take a loop without a branch,
     which vectorizes; its two ends, and every sample of a row along a side, take the sides'
     ghosts as the general path does, in its order."""
+    q, face_type, axis = comp
+    mu_face, scale, drag_face = coeffs
+    kinds, side_vel = sides
+    diag, offx, offy, offz, active, rhs = out
     nx, ny, nz = q.shape
     walls = (kinds == WALL) | (kinds == INFLOW)
     vel = side_vel[:, :, axis]
@@ -120,9 +146,14 @@ def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
             if not side_row:
                 for k in range(1, nz - 1):
                     ac[k] = (
-                        (f0[k] == FREE) & (fw[k] == FREE) & (fe[k] == FREE) & (fs[k] == FREE)
-                        & (fn[k] == FREE) & (f0[k - 1] == FREE) & (f0[k + 1] == FREE)
-                    )  # fmt: skip
+                        (f0[k] == FREE)
+                        & (fw[k] == FREE)
+                        & (fe[k] == FREE)
+                        & (fs[k] == FREE)
+                        & (fn[k] == FREE)
+                        & (f0[k - 1] == FREE)
+                        & (f0[k + 1] == FREE)
+                    )
                     own = scale * m0[k]
                     d = 1.0 + dr[k]
                     d += 0.5 * (own + scale * mw[k])
@@ -146,10 +177,14 @@ def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
                 b_out, t_out = k == 0, k == nz - 1
                 kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
                 ac[k] = (
-                    (f0[k] == FREE) & (w_out | (fw[k] == FREE)) & (e_out | (fe[k] == FREE))
-                    & (s_out | (fs[k] == FREE)) & (n_out | (fn[k] == FREE))
-                    & (b_out | (f0[kb] == FREE)) & (t_out | (f0[kt] == FREE))
-                )  # fmt: skip
+                    (f0[k] == FREE)
+                    & (w_out | (fw[k] == FREE))
+                    & (e_out | (fe[k] == FREE))
+                    & (s_out | (fs[k] == FREE))
+                    & (n_out | (fn[k] == FREE))
+                    & (b_out | (f0[kb] == FREE))
+                    & (t_out | (f0[kt] == FREE))
+                )
                 own = scale * m0[k]
                 d = 1.0 + dr[k]
                 r = qr[k]
@@ -192,9 +227,12 @@ def _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
 
 
 @kernel
-def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag, offx,
-                   offy, offz, active, rhs):  # fmt: skip
+def _short_rows_2d(comp, coeffs, sides, out):
     """:func:`_short_rows_3d` on one layer: the rows run along y."""
+    q, face_type, axis = comp
+    mu_face, scale, drag_face = coeffs
+    kinds, side_vel = sides
+    diag, offx, offy, offz, active, rhs = out
     nx, ny, _ = q.shape
     walls = (kinds == WALL) | (kinds == INFLOW)
     vel = side_vel[:, :, axis]
@@ -210,9 +248,12 @@ def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
         if not side_row:
             for j in range(1, ny - 1):
                 ac[j] = (
-                    (f0[j] == FREE) & (fw[j] == FREE) & (fe[j] == FREE) & (f0[j - 1] == FREE)
+                    (f0[j] == FREE)
+                    & (fw[j] == FREE)
+                    & (fe[j] == FREE)
+                    & (f0[j - 1] == FREE)
                     & (f0[j + 1] == FREE)
-                )  # fmt: skip
+                )
                 own = scale * m0[j]
                 d = 1.0 + dr[j]
                 d += 0.5 * (own + scale * mw[j])
@@ -232,9 +273,12 @@ def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
             s_out, n_out = j == 0, j == ny - 1
             js, jn = max(j - 1, 0), min(j + 1, ny - 1)
             ac[j] = (
-                (f0[j] == FREE) & (w_out | (fw[j] == FREE)) & (e_out | (fe[j] == FREE))
-                & (s_out | (f0[js] == FREE)) & (n_out | (f0[jn] == FREE))
-            )  # fmt: skip
+                (f0[j] == FREE)
+                & (w_out | (fw[j] == FREE))
+                & (e_out | (fe[j] == FREE))
+                & (s_out | (f0[js] == FREE))
+                & (n_out | (f0[jn] == FREE))
+            )
             own = scale * m0[j]
             d = 1.0 + dr[j]
             r = qr[j]
@@ -267,31 +311,31 @@ def _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_ve
 
 
 @kernel
-def build_cut_system(
-    q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
-    owner, sys_out, rhs, layers, short=True,
-):  # fmt: skip
-    """Assemble the diffusion system of component ``axis`` (see :mod:`solver.staircase.viscosity`), with
-    ``phi``/``owner`` the probes' signed distance and nearest probe at this component's samples;
+def build_cut_system(comp, dim, coeffs, sides, walls, out, layers, short=True):
+    """Assemble the diffusion system of component ``comp`` into ``out`` (see
+    :func:`solver.staircase.viscosity.build_variable_system`), with ``walls`` a :class:`CutWalls`;
     ``layers`` as :func:`solver.compiled.layers.layer_count` gives it.
 
     An unknown whose neighbours within the domain are all unknowns (most of them) takes a short
     path (:func:`_short_rows_3d`, :func:`_short_rows_2d`), with the same sums in the same order
     as the general path below, which then visits the rest; with ``short`` False it visits every
-    sample (the reference the short path is tested against). A general path in a function of
-    its own, called per sample or per neighbour, ran 4-10x slower."""
-    diag, offx, offy, offz, active = sys_out
+    sample (the reference the short path is tested against). The general path stays inline
+    here: as a function of its own, called per sample or per neighbour, it is several times
+    slower."""
+    q, face_type, axis = comp
+    mu_face, scale, drag_face = coeffs
+    kinds, side_vel = sides
+    phi, owner = walls.phi, walls.owner
+    diag, offx, offy, offz, active, rhs = out
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
     three = dim == 3
     nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.compiled.layers)
     if short:
         if three:
-            _short_rows_3d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag,
-                           offx, offy, offz, active, rhs)  # fmt: skip
+            _short_rows_3d(comp, coeffs, sides, out)
         else:
-            _short_rows_2d(q, face_type, axis, mu_face, scale, drag_face, kinds, side_vel, diag,
-                           offx, offy, offz, active, rhs)  # fmt: skip
+            _short_rows_2d(comp, coeffs, sides, out)
     for i in range(nx):
         for j in range(ny):
             for k in range(nl):
@@ -333,15 +377,11 @@ def build_cut_system(
                                 else:
                                     offz[i, j, k] = -c
                         elif phi[ii, jj, kk] <= 0.0 and owner[ii, jj, kk] >= 0:
-                            inv, wall = _cut_coupling(
-                                phi, owner, rigid, axis, i, j, k, ii, jj, kk, b, s, h
-                            )
+                            inv, wall = _cut_coupling(walls, axis, (i, j, k), (ii, jj, kk), b, s)
                             d += c * inv
                             r += c * inv * wall
                         elif t == INTERIOR and b != axis:
-                            wall = _surface_velocity(
-                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
-                            )
+                            wall = _surface_velocity(walls, axis, (i, j, k), (ii, jj, kk), b, s)
                             d += 2.0 * own
                             r += 2.0 * own * wall
                         else:
@@ -363,31 +403,20 @@ class ViscosityWork:
 
     @classmethod
     def for_shape(cls, shape: tuple[int, int, int], dim: int) -> ViscosityWork:
-        return cls(np.empty(shape), np.empty(shape), StencilSystem.empty(shape, dim),
-                   np.empty(shape))  # fmt: skip
+        return cls(
+            np.empty(shape), np.empty(shape), StencilSystem.empty(shape, dim), np.empty(shape)
+        )
 
 
 def assemble_cut(
-    q: np.ndarray,
-    face_type: np.ndarray,
-    axis: int,
-    dim: int,
-    mu_cell: np.ndarray,
-    dt_s: float,
-    density_kg_m3: float,
-    kinds: np.ndarray,
-    side_vel: np.ndarray,
-    label: np.ndarray,
-    rigid: np.ndarray,
-    h: float,
-    phi: np.ndarray,
-    owner: np.ndarray,
-    drag_cell: np.ndarray | None = None,
-    work: ViscosityWork | None = None,
+    comp: Component, step: ViscousStep, walls: CutWalls, work: ViscosityWork | None = None
 ) -> ViscosityWork:
-    """The implicit viscosity system of component ``axis`` (no-slip at the probes' surfaces)
-    and its right-hand side, in ``work`` (of ``q``'s shape) when given, else in fresh arrays;
-    returns the arrays that hold them."""
+    """The implicit viscosity system of component ``comp`` (the ``step``'s viscosity and drag,
+    no-slip at the probes' surfaces: ``walls``) and its right-hand side, in ``work`` (of the
+    component's shape) when given, else in fresh arrays; returns the arrays that hold them."""
+    q, axis = comp.q, comp.axis
+    dim, mu_cell, dt_s, drag_cell = step.dim, step.mu_cell, step.dt_s, step.drag_cell
+    h = walls.h
     if work is None or work.rhs.shape != q.shape:
         work = ViscosityWork.for_shape(q.shape, dim)
     mu_face, drag_face, system, rhs = work.mu_face, work.drag_face, work.system, work.rhs
@@ -397,39 +426,24 @@ def assemble_cut(
         drag_face *= dt_s
     else:
         drag_face.fill(0.0)
-    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
-    scale = dt_s / (density_kg_m3 * h * h)
-    build_cut_system(
-        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, phi,
-        owner, arrays, rhs, layer_count(q.shape),
-    )  # fmt: skip
+    scale = dt_s / (step.density_kg_m3 * h * h)
+    coeffs = Diffusion(mu_face, scale, drag_face)
+    out = DiffusionArrays.of(system, rhs)
+    build_cut_system(comp, dim, coeffs, step.sides, walls, out, layer_count(q.shape))
     return work
 
 
 def diffuse_cut(
-    q: np.ndarray,
-    face_type: np.ndarray,
-    axis: int,
-    dim: int,
-    mu_cell: np.ndarray,
-    dt_s: float,
-    density_kg_m3: float,
-    kinds: np.ndarray,
-    side_vel: np.ndarray,
-    label: np.ndarray,
-    rigid: np.ndarray,
-    h: float,
-    phi: np.ndarray,
-    owner: np.ndarray,
+    comp: Component,
+    step: ViscousStep,
+    walls: CutWalls,
     tol: float,
     max_iter: int,
-    drag_cell: np.ndarray | None = None,
     linear_solve: LinearSolve = solve,
     work: ViscosityWork | None = None,
 ) -> SolveReport:
-    """Implicit viscosity of component ``axis`` in place, no-slip at the probes' surfaces;
-    ``work`` (of ``q``'s shape), when given, holds the system instead of fresh arrays
-    (:func:`assemble_cut`, then ``linear_solve``)."""
-    work = assemble_cut(q, face_type, axis, dim, mu_cell, dt_s, density_kg_m3, kinds, side_vel,
-                        label, rigid, h, phi, owner, drag_cell, work)  # fmt: skip
-    return linear_solve(work.system, work.rhs, q, tol, max_iter)
+    """Implicit viscosity of component ``comp`` in place, no-slip at the probes' surfaces;
+    ``work`` (of the component's shape), when given, holds the system instead of fresh arrays
+    (:func:`assemble_cut`, then ``linear_solve`` to ``tol`` in ``max_iter`` iterations)."""
+    work = assemble_cut(comp, step, walls, work)
+    return linear_solve(work.system, work.rhs, comp.q, tol, max_iter)

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-MODELS = ("stress", "control_volume", "drag", "viscous_drag")
-
 
 def quadratic_drag(
     relative_velocity_m_s: np.ndarray, density_kg_m3: float, area: float, coefficient: float = 1.0

@@ -1,35 +1,27 @@
 """Multigrid-preconditioned conjugate gradients (MGPCG) on 7-point stencil systems.
 
 After McAdams, Sifakis & Teran, "A parallel multigrid Poisson solver for fluids simulation on
-large grids" (SCA 2010): conjugate gradients preconditioned by one geometric multigrid V-cycle.
-The hierarchy is built from the assembled fine matrix itself (:class:`~solver.linalg.pcg.StencilSystem`,
-any face weights: the staircase's 0/1, the cut cells' open fractions, outflow ghosts, a
-viscosity solve's mass term), so it respects solid, fluid and outflow cells and every cut-cell
-weight without knowing where they came from:
+large grids" (SCA 2010): conjugate gradients preconditioned by one geometric multigrid V-cycle,
+its hierarchy built from the assembled fine matrix (:class:`~solver.linalg.pcg.StencilSystem`,
+any face weights, ghosts or mass term), so it respects every solid, outflow and cut-cell weight:
 
-- cells are aggregated 2 x 2 (x 2 in 3D) per level, until the coarsest level is a few cells a
-  side; a coarse cell is an unknown when any of its children is and its diagonal is positive;
-- the coarse matrix is the Galerkin product ``P^T A P`` with piecewise-constant ``P``, which keeps
-  the 7-point stencil and symmetry, with its zero-row-sum (Laplacian) part scaled by the first
-  of :class:`Multigrid`'s ``scales`` (1/2: the face weights of the same operator rediscretized on
-  cells twice as wide, in 2D and 3D alike) and its row sums (outflow ghosts, a mass, a drag) by
-  the second (1/2 for the pressure's ghost faces, 1 for a mass);
-- smoothing is red-black Gauss-Seidel, ``PRE_SMOOTH`` red-black sweeps going down and as many
-  black-red sweeps coming back, the coarsest level swept ``COARSEST_SWEEPS`` times each way, so
-  the V-cycle is a symmetric positive definite preconditioner and CG applies.
+- cells are aggregated 2 x 2 (x 2 in 3D) per level down to a few cells a side; a coarse cell is
+  an unknown when any of its children is and its diagonal is positive;
+- the coarse matrix is the Galerkin product ``P^T A P`` with piecewise-constant ``P`` (7-point,
+  symmetric), its zero-row-sum (Laplacian) part scaled by the first of :class:`Multigrid`'s
+  ``scales`` (1/2: the same operator rediscretized on cells twice as wide) and its row sums
+  (outflow ghosts, a mass, a drag) by the second (1/2 for pressure ghosts, 1 for a mass);
+- smoothing: ``PRE_SMOOTH`` red-black Gauss-Seidel sweeps down, as many black-red up (the
+  coarsest level ``COARSEST_SWEEPS`` each way): a symmetric positive definite V-cycle for CG.
 
-Every array of the hierarchy is preallocated once per grid shape and refilled in place each
-solve: rebuilding it as probes move costs about two passes over the fine grid.
-
-With ``threads`` > 1, a 3D solve runs its levels of at least :data:`PARALLEL_MIN_CELLS` cells on
-numba's threads (:mod:`solver.compiled.parallel`), with the same values, bit for bit; with
-``adaptive`` as well, each solve runs them on the threads or on one, whichever has cost less per
-iteration lately (:class:`~solver.compiled.timed_choice.TimedChoice`).
+The hierarchy's arrays are allocated once per grid shape and refilled in place each solve;
+:data:`PARALLEL_MIN_CELLS` says which levels run on threads.
 """
 
 from __future__ import annotations
 
 import time
+from typing import NamedTuple
 
 import numpy as np
 from numba import prange
@@ -45,11 +37,11 @@ COARSEST_SWEEPS = 16
 COARSEST_CELLS = 4
 PRESSURE_SCALES = (0.5, 0.5)
 DIFFUSION_SCALES = (0.5, 1.0)
-#: The smallest level the parallel kernels take, with ``threads`` > 1, in 3D (cells). A
-#: 64³ solve took 0.6-0.9x the time on two free cores, a 32³ one 0.86x; on the painting grid
-#: (32x32x12) the paint step was slower (see the README). With the other core busy, the solve
-#: took twice as long as on one thread: a simulation asks for it only when its scene sets the
-#: threads.
+#: The smallest level (cells) that a 3D solve with ``threads`` > 1 runs on numba's threads
+#: (:mod:`solver.compiled.parallel`, the same bits); with ``adaptive``, on those or on one,
+#: whichever has cost less per iteration lately (:mod:`solver.compiled.timed_choice`). Threads
+#: pay on large grids with a free core, not on the painting grid nor beside a busy core, so a
+#: simulation asks for them only when its scene sets the threads.
 PARALLEL_MIN_CELLS = 32768
 
 
@@ -62,13 +54,31 @@ def level_shapes(shape: tuple[int, int, int]) -> list[tuple[int, int, int]]:
     return shapes  # type: ignore[return-value]
 
 
-@kernel
-def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l, scale_m):
-    """Fill level ``level + 1`` of the packed hierarchy from level ``level``, and the inverse
-    diagonal ``inv`` of level ``level``.
+class Hierarchy(NamedTuple):
+    """The packed arrays of a multigrid hierarchy: every level's entries concatenated, finest
+    first, each flat in the kernels' axis order (see :class:`Multigrid`)."""
 
-    All arrays are the packed (concatenated, flat) hierarchy; ``shapes`` (L, 3) and ``starts``
-    (L,) locate each level in them."""
+    #: Diagonal of each level's matrix.
+    diag: np.ndarray
+    #: Coupling of each entry to its successor along the first, second and third axis.
+    offx: np.ndarray
+    offy: np.ndarray
+    offz: np.ndarray
+    #: Whether an entry is an unknown (bool).
+    active: np.ndarray
+    #: Inverse diagonal (0 where no unknown).
+    inv: np.ndarray
+    #: (L, 3) int64: each level's shape.
+    shapes: np.ndarray
+    #: (L,) int64: each level's first entry in the packed arrays.
+    starts: np.ndarray
+
+
+@kernel
+def coarsen(h, level, scale_l, scale_m):
+    """Fill level ``level + 1`` of the packed hierarchy ``h`` from level ``level``, and the
+    inverse diagonal ``inv`` of level ``level``."""
+    diag, offx, offy, offz, active, inv, shapes, starts = h
     nx, ny, nz = shapes[level, 0], shapes[level, 1], shapes[level, 2]
     cx, cy, cz = shapes[level + 1, 0], shapes[level + 1, 1], shapes[level + 1, 2]
     fo, co = starts[level], starts[level + 1]
@@ -176,18 +186,19 @@ def coarsen(diag, offx, offy, offz, active, inv, shapes, starts, level, scale_l,
 
 
 # The kernels below index with unsigned integers (solver.compiled.unsigned). The neighbour sum is written
-# out in each kernel: as an inlined helper it ran 12x slower. Each is compiled serial and parallel
+# out in each kernel: as an inlined helper it runs far slower. Each is compiled serial and parallel
 # (solver.compiled.parallel): their outer loop runs over the planes of a level, or over the
 # coarse planes, whose iterations write disjoint entries, so both give the same bits; the small
 # dispatchers after them pick one per level. The outer loop runs along the first axis of the
 # kernels' order (a 3D grid's x; a 2D grid's single plane, which runs on one thread).
 
 
-def _sweep_rows(inv, offx, offy, offz, o, shape, b, x, colour):
+def _sweep_rows(h, o, shape, b, x, colour):
     """One Gauss-Seidel pass over the cells of one colour (``(i + j + k) % 2``) of the level at
-    offset ``o`` with ``shape``. An entry that is no unknown has ``inv = 0`` and no couplings, so
-    it stays 0 without a test. A cell of one colour reads only the other's, so the planes are
-    independent."""
+    offset ``o`` with ``shape`` of the hierarchy ``h``. An entry that is no unknown has
+    ``inv = 0`` and no couplings, so it stays 0 without a test. A cell of one colour reads only
+    the other's, so the planes are independent."""
+    inv, offx, offy, offz = h.inv, h.offx, h.offy, h.offz
     nx, ny, nz = np.uint64(shape[0]), np.uint64(shape[1]), np.uint64(shape[2])
     sx, sy = ny * nz, nz
     uo = np.uint64(o)
@@ -216,14 +227,16 @@ def _sweep_rows(inv, offx, offy, offz, o, shape, b, x, colour):
                 k += U2
 
 
-def _residual_restrict_rows(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour):
-    """Restrict ``b - A x`` of ``level`` into ``b`` of ``level + 1`` (sum over the children that
-    are unknowns), from the cells of ``colour`` (``(i + j + k) % 2``) only.
+def _residual_restrict_rows(h, level, b, x, colour):
+    """Restrict ``b - A x`` of ``level`` of the hierarchy ``h`` into ``b`` of ``level + 1`` (sum
+    over the children that are unknowns), from the cells of ``colour`` (``(i + j + k) % 2``) only.
 
     Right after a Gauss-Seidel half-sweep over the other colour, the residual of every cell of
     that colour is zero (to round-off: each was just solved for its neighbours, none of which
     has changed since), so half the cells need no residual at all. Each coarse plane (along the
     first axis) sums its own children's planes, in the order of the fine grid's rows."""
+    diag, offx, offy, offz, active = h.diag, h.offx, h.offy, h.offz, h.active
+    shapes, starts = h.shapes, h.starts
     nx, ny, nz = (
         np.uint64(shapes[level, 0]),
         np.uint64(shapes[level, 1]),
@@ -302,7 +315,7 @@ def _scale_into(src, scale, dst, lo, hi):
     """``dst[n] = src[n] * scale[n]`` for ``lo <= n < hi``.
 
     The loop runs over views of the range from index 0: an index the compiler can see is never
-    negative needs no wraparound test, and the loop vectorizes (64³: 0.09 against 0.33 ms)."""
+    negative needs no wraparound test, and the loop vectorizes."""
     s, f, d = src[lo:hi], scale[lo:hi], dst[lo:hi]
     for n in prange(s.size):
         d[n] = s[n] * f[n]
@@ -344,19 +357,19 @@ _direction_s, _direction_p = serial_and_parallel(_cg_direction)
 
 
 @kernel
-def _sweep(par, inv, offx, offy, offz, o, shape, b, x, colour):
+def _sweep(par, h, o, shape, b, x, colour):
     if par:
-        _sweep_p(inv, offx, offy, offz, o, shape, b, x, colour)
+        _sweep_p(h, o, shape, b, x, colour)
     else:
-        _sweep_s(inv, offx, offy, offz, o, shape, b, x, colour)
+        _sweep_s(h, o, shape, b, x, colour)
 
 
 @kernel
-def _residual_restrict(par, diag, offx, offy, offz, active, shapes, starts, level, b, x, colour):
+def _residual_restrict(par, h, level, b, x, colour):
     if par:
-        _restrict_p(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour)
+        _restrict_p(h, level, b, x, colour)
     else:
-        _restrict_s(diag, offx, offy, offz, active, shapes, starts, level, b, x, colour)
+        _restrict_s(h, level, b, x, colour)
 
 
 @kernel
@@ -376,10 +389,11 @@ def _scale(par, src, scale, dst, lo, hi):
 
 
 @kernel
-def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par_cells=NEVER):
-    """z = M^{-1} r, one symmetric V-cycle from a zero guess (``b``, ``x``: packed scratch;
-    ``PRE_SMOOTH`` and ``COARSEST_SWEEPS`` are at least 1); levels of at least ``par_cells``
-    cells run the parallel kernels."""
+def v_cycle(h, r, z, b, x, par_cells=NEVER):
+    """z = M^{-1} r, one symmetric V-cycle of the hierarchy ``h`` from a zero guess (``b``,
+    ``x``: packed scratch; ``PRE_SMOOTH`` and ``COARSEST_SWEEPS`` are at least 1); levels of at
+    least ``par_cells`` cells run the parallel kernels."""
+    active, inv, shapes, starts = h.active, h.inv, h.shapes, h.starts
     levels = shapes.shape[0]
     size0 = r.size
     par0 = size0 >= par_cells
@@ -395,23 +409,23 @@ def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par
         # x = b / diag. Written over the whole level, it also fills colour 1, which the next
         # half-sweep overwrites without reading. (The same values as sweeping from zeros.)
         _scale(par, b, inv, x, o, o + cells)
-        _sweep(par, inv, offx, offy, offz, o, shape, b, x, 1)
+        _sweep(par, h, o, shape, b, x, 1)
         for _ in range((PRE_SMOOTH if lev < levels - 1 else COARSEST_SWEEPS) - 1):
-            _sweep(par, inv, offx, offy, offz, o, shape, b, x, 0)
-            _sweep(par, inv, offx, offy, offz, o, shape, b, x, 1)
+            _sweep(par, h, o, shape, b, x, 0)
+            _sweep(par, h, o, shape, b, x, 1)
         if lev < levels - 1:
             # the last half-sweep was colour 1: only colour 0 has a residual left
-            _residual_restrict(par, diag, offx, offy, offz, active, shapes, starts, lev, b, x, 0)
+            _residual_restrict(par, h, lev, b, x, 0)
     for _ in range(COARSEST_SWEEPS):
-        _sweep(par, inv, offx, offy, offz, o, shape, b, x, 1)
-        _sweep(par, inv, offx, offy, offz, o, shape, b, x, 0)
+        _sweep(par, h, o, shape, b, x, 1)
+        _sweep(par, h, o, shape, b, x, 0)
     for lev in range(levels - 2, -1, -1):
         o, shape = starts[lev], shapes[lev]
         par = shape[0] * shape[1] * shape[2] >= par_cells
         _prolong_add(par, shapes, starts, lev, x)
         for _ in range(PRE_SMOOTH):
-            _sweep(par, inv, offx, offy, offz, o, shape, b, x, 1)
-            _sweep(par, inv, offx, offy, offz, o, shape, b, x, 0)
+            _sweep(par, h, o, shape, b, x, 1)
+            _sweep(par, h, o, shape, b, x, 0)
     if par0:
         _masked_p(x, active, z, size0)
     else:
@@ -419,11 +433,13 @@ def v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r, z, b, x, par
 
 
 @kernel
-def build_levels(diag, offx, offy, offz, active, inv, shapes, starts, scales):
-    """Fill every coarse level (and every level's inverse diagonal) from the finest."""
+def build_levels(h, scales):
+    """Fill every coarse level of the hierarchy ``h`` (and every level's inverse diagonal) from
+    the finest."""
+    diag, active, inv, shapes = h.diag, h.active, h.inv, h.shapes
     levels = shapes.shape[0]
     for lev in range(levels - 1):
-        coarsen(diag, offx, offy, offz, active, inv, shapes, starts, lev, scales[0], scales[1])
+        coarsen(h, lev, scales[0], scales[1])
     if levels == 1:
         for n in range(shapes[0, 0] * shapes[0, 1] * shapes[0, 2]):
             inv[n] = 1.0 / diag[n] if active[n] and diag[n] > 0.0 else 0.0
@@ -438,13 +454,13 @@ def _stencil(par, diag, offx, offy, offz, active, strides, x, out):
 
 
 @kernel
-def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol, max_iter,
-               work, par_cells=NEVER):  # fmt: skip
-    """CG preconditioned by :func:`v_cycle` on the finest level of a built hierarchy (its matrix
-    occupies the first ``bvec.size`` entries of the packed arrays); ``work`` is (6, packed
+def mgpcg_flat(h, bvec, x, tol, max_iter, work, par_cells=NEVER):
+    """CG preconditioned by :func:`v_cycle` on the finest level of a built hierarchy ``h`` (its
+    matrix occupies the first ``bvec.size`` entries of the packed arrays); ``work`` is (6, packed
     size) scratch; levels of at least ``par_cells`` cells run the parallel kernels (the inner
     products stay serial, so the result is the same either way). Returns (iterations, relative
     residual)."""
+    diag, offx, offy, offz, active, shapes = h.diag, h.offx, h.offy, h.offz, h.active, h.shapes
     size = bvec.size
     par = size >= par_cells
     r, s, q, z, vb, vx = work[0], work[1], work[2], work[3], work[4], work[5]
@@ -462,7 +478,7 @@ def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol
     rnorm = np.sqrt(dot(r[:size], r[:size]))
     if rnorm <= tol * bnorm:
         return 0, rnorm / bnorm
-    v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r[:size], z, vb, vx, par_cells)
+    v_cycle(h, r[:size], z, vb, vx, par_cells)
     for n in range(size):
         s[n] = z[n]
     sigma = dot(z, r[:size])
@@ -481,8 +497,7 @@ def mgpcg_flat(diag, offx, offy, offz, active, inv, shapes, starts, bvec, x, tol
         rnorm = np.sqrt(dot(r, r[:size]))
         if rnorm <= tol * bnorm:
             break
-        v_cycle(diag, offx, offy, offz, active, inv, shapes, starts, r[:size], z, vb, vx,
-                par_cells)  # fmt: skip
+        v_cycle(h, r[:size], z, vb, vx, par_cells)
         sigma_new = dot(z, r[:size])
         if sigma_new <= 0.0:
             break
@@ -522,9 +537,8 @@ class Multigrid:
         #: The choice between one thread (0) and ``threads`` (1), for adaptive solves.
         self.choice = TimedChoice(2)
         # A grid one cell deep (2D) is seen as (1, nx, ny), so that the kernels' innermost loop
-        # runs along a long axis. A 3D grid keeps its own order, with no copies into another:
-        # shortest axis first was no faster on flat grids (32x32x4 to 64x64x16: 0.93-1.03x the
-        # time of a load and solve), and slower with its copies on the painting grid (32x32x12).
+        # runs along a long axis. A 3D grid keeps its own order, with no copies into another
+        # (the copies cost more than a reordering gains on flat grids).
         self.perm = (
             tuple(int(a) for a in np.argsort(self.shape, kind="stable"))
             if self.shape[2] == 1
@@ -547,6 +561,10 @@ class Multigrid:
         self.inv = np.zeros(total)
         self.active = np.zeros(total, dtype=np.bool_)
         self.work = np.zeros((6, total))
+        #: The arrays above, as the kernels take them.
+        self.hierarchy = Hierarchy(
+            self.diag, *self.off, self.active, self.inv, self.shapes, self.starts
+        )
         # the right-hand side and solution in the kernels' order, when that is not the grid's
         self._b = np.zeros(sizes[0])
         self._x = np.zeros(sizes[0])
@@ -579,10 +597,12 @@ class Multigrid:
             np.copyto(self._finest(self.off[a]), system.off[perm[a]].transpose(perm))
         # an entry cut off from every neighbour (a fluid cell walled in by solid) has a zero row:
         # it is no unknown
-        np.logical_and(system.active.transpose(perm), self._finest(self.diag) > 0.0,
-                       out=self._finest(self.active))  # fmt: skip
-        build_levels(self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
-                     self.scales)  # fmt: skip
+        np.logical_and(
+            system.active.transpose(perm),
+            self._finest(self.diag) > 0.0,
+            out=self._finest(self.active),
+        )
+        build_levels(self.hierarchy, self.scales)
 
     def solve(
         self, system: StencilSystem, b: np.ndarray, x: np.ndarray, tol: float, max_iter: int
@@ -606,8 +626,7 @@ class Multigrid:
             flat_x, flat_b = self._x[: x.size], self._b[: b.size]
             np.copyto(self._finest(flat_x), x.transpose(self.perm))
             np.copyto(self._finest(flat_b), b.transpose(self.perm))
-        args = (self.diag, *self.off, self.active, self.inv, self.shapes, self.starts,
-                flat_b, flat_x, tol, max_iter, self.work)  # fmt: skip
+        args = (self.hierarchy, flat_b, flat_x, tol, max_iter, self.work)
         on_threads = self.parallel and (not self.adaptive or self.choice.pick() == 1)
         start = time.perf_counter()
         if on_threads:

@@ -95,9 +95,8 @@ def _apply_stencil(diag, offx, offy, offz, active, strides, x, out):
     couplings (the z axis in 2D).
 
     The entries at least the largest stride away from both ends take a loop without bounds
-    tests, unsigned-indexed (1.8x faster at 32³), split among threads in the parallel twin; the
-    rest the tested one, which visits only them (it had skipped over the middle entry by entry:
-    a pass of its own, 4 us at 64²)."""
+    tests, unsigned-indexed, split among threads in the parallel twin; the rest the tested one,
+    which visits only them (not the middle, entry by entry)."""
     sx, sy, sz = strides
     size = x.size
     lo = max(sx, sy, sz)
@@ -148,7 +147,7 @@ apply_stencil, apply_stencil_parallel = serial_and_parallel(_apply_stencil)
 @kernel
 def dot(a, b):
     """Sum of ``a * b`` over the first ``b.size`` entries, in eight interleaved partial sums: a
-    single running sum waits on each addition's latency (measured: a 4-8x slower pass)."""
+    single running sum waits on each addition's latency."""
     size = b.size
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
     end = size - size % 8
@@ -311,8 +310,8 @@ def pcg(diag, offx, offy, offz, active, dim, b, x, tol, max_iter):
 
 class JacobiPCG:
     """:func:`jacobi_pcg_flat` for systems of one grid shape, its scratch kept from solve to
-    solve: on a 64³ grid, alone, a five-iteration solve took 9.8 ms with four fresh arrays and
-    5.0 with kept ones (each fresh array's first touch faults in its pages)."""
+    solve: each fresh array's first touch faults in its pages, a large share of a short solve's
+    time on a large grid."""
 
     def __init__(self, shape: tuple[int, int, int]) -> None:
         self.shape = tuple(int(c) for c in shape)
@@ -326,11 +325,12 @@ class JacobiPCG:
             raise ValueError(f"b must have the shape {self.shape}, got {b.shape}")
         _nx, ny, nz = b.shape
         strides = (ny * nz, nz, 1 if system.dim == 3 else 0)
-        ox, oy, oz = system.off
+        ox, oy, oz = (o.reshape(-1) for o in system.off)
+        diag, active = system.diag.reshape(-1), system.active.reshape(-1)
         xf = x.reshape(-1)
-        it, res = jacobi_pcg_flat(system.diag.reshape(-1), ox.reshape(-1), oy.reshape(-1),
-                                  oz.reshape(-1), system.active.reshape(-1), strides,
-                                  b.reshape(-1), xf, tol, max_iter, self.work)  # fmt: skip
+        it, res = jacobi_pcg_flat(
+            diag, ox, oy, oz, active, strides, b.reshape(-1), xf, tol, max_iter, self.work
+        )
         if not x.flags.c_contiguous:  # its flat form was a copy
             x[...] = xf.reshape(x.shape)
         return SolveReport(iterations=int(it), residual=float(res), converged=bool(res <= tol))

@@ -3,22 +3,12 @@
 On a grid that rides with its probe (the painting grid follows the brush's tip), the flow round the
 probe changes little from one step to the next: each velocity component's viscosity solve and the
 pressure increment's start nearer their solutions from the last step's solutions, moved with the
-grid, than from the advected velocity and a zero increment. On the painting benchmark's stroke:
-3.8 -> 3.0 viscosity iterations a component and 7.0 -> 6.0 for the pressure. Where a probe crosses
-a fixed grid the advected velocity is the better start (the solver benchmark's 64² scene: 4.0 ->
-4.2 viscosity iterations), so it is off unless a scene asks.
-
-Tried, not kept: the point on the line through the two starts nearest the solution in the
-matrix's energy norm (two matrix products a solve): the same viscosity iterations on the painting
-grid, no fewer for the pressure (its best point lies at a quarter of the way, where conjugate
-gradients gained nothing), and on the solver benchmark no fewer, for 0.04 ms a step at 64² and
-0.7 ms at 32³.
+grid, than from the advected velocity and a zero increment. Where a probe crosses a fixed grid the
+advected velocity is the better start, so it is off unless a scene asks.
 
 The pressure starts warm only where the domain has an outflow side: a closed domain's pressure is
 fixed only up to a constant, and a start carried over from step to step carries its constant into
-the incremental pressure, which the next step's gradient takes against the entries held at 0 (a
-ball riding in a closed box: 1.1e-3 of the flow's speed off the exact solves at every tolerance,
-2.4e-4 with each start's mean taken out, against 4e-5 from cold starts at 1e-4).
+the incremental pressure, which the next step's gradient takes against the entries held at 0.
 
 The solve and its tolerance are unchanged: the result meets the same residual test from another
 start, so it differs from a cold start's within that tolerance.

@@ -1,25 +1,16 @@
 """What a run will cost before it starts: memory against what the machine has, and time per step.
 
-Both are rough estimates calibrated on this project's 2-core development machines (linear
-advection, default tolerances, a moving box probe; peak resident memory and median step times):
-
-==========  =========  ==================  ================  ====================
-grid        cells      memory (B / cell)   step (s)          pressure iterations
-==========  =========  ==================  ================  ====================
-2D 512²     262,144    155                 2.5               261
-2D 1024²    1,048,576  154                 30                526
-3D 64³      262,144    174                 1.8               57
-3D 96³      884,736    172                 6.2               83
-==========  =========  ==================  ================  ====================
+Both are rough estimates, calibrated from peak resident memory and median step times of 2D and
+3D scenes (the calibration is in ``docs/performance.md``).
 
 Memory is :data:`BYTES_PER_CELL` per cell (the field arrays, labels, probe masks and the solvers'
 work vectors, with a margin) plus the recorded results (a time and each probe's force, torque and
 its parts per step). What is available is the least of ``MemAvailable``, a cgroup's limit and an
-address-space limit (``ulimit -v``). A step costs a fixed amount per cell plus one PCG iteration per cell per
-pressure iteration, and the MIC(0)-preconditioned pressure solve needs a number of iterations
-that grows with the cells along the longest axis. :func:`check_memory` refuses a scene whose
-estimate exceeds the memory available now; :func:`slow_step_warning` says so before a run whose steps will take more than
-:data:`SLOW_STEP_S` each.
+address-space limit (``ulimit -v``). A step costs a fixed amount per cell plus one PCG iteration
+per cell per pressure iteration, and the MIC(0)-preconditioned pressure solve needs a number of
+iterations that grows with the cells along the longest axis. :func:`check_memory` refuses a scene
+whose estimate exceeds the memory available now; :func:`slow_step_warning` says so before a run
+whose steps will take more than :data:`SLOW_STEP_S` each.
 """
 
 from __future__ import annotations
@@ -35,7 +26,7 @@ if TYPE_CHECKING:
     from solver.grid import Grid
     from solver.scenes.scene import Scene
 
-#: Bytes per cell while a scene runs (measured 154-174, rounded up).
+#: Bytes per cell while a scene runs (the calibration's largest, rounded up).
 BYTES_PER_CELL = 200
 #: Bytes of recorded results per step, and per probe per step.
 BYTES_PER_STEP = 40

@@ -103,20 +103,20 @@ def _advection(sim: Simulation) -> Decision:
         return Decision(
             "advection",
             "none (Stokes flow)",
-            "solver.advection.velocity = none: the velocity's self-advection is left out, valid only where "
+            "solver.advection = none: the velocity's self-advection is left out, valid only where "
             "the Reynolds number is far below 1 (creeping flow)",
         )
     if sim.settings.advection == "maccormack":
         return Decision(
             "advection",
             "bounded MacCormack (second order)",
-            "solver.advection.velocity = maccormack: less numerical diffusion for about 1.5x the "
+            "solver.advection = maccormack: less numerical diffusion for about 1.5x the "
             "advection cost (two extra interpolation passes)",
         )
     return Decision(
         "advection",
         "semi-Lagrangian, linear interpolation (first order)",
-        "solver.advection.velocity = linear: the cheapest scheme; more numerical diffusion",
+        "solver.advection = linear: the cheapest scheme; more numerical diffusion",
     )
 
 

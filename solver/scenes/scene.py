@@ -11,25 +11,29 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TypedDict
+from typing import TypedDict, TypeVar, cast
 
 import numpy as np
 
 from common.errors import InputError
 from common.tables import Table
-from solver.advection.velocity import ADVECTION_CHOICES
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.compiled.threads import MAX_THREADS
-from solver.forces.drag_models import MODELS
 from solver.grid import Grid
 from solver.probes import PATH_INTERPOLATIONS, Probe
 from solver.settings import (
+    ADVECTION_CHOICES,
     BOUNDARY_METHODS,
+    FORCE_MODELS,
     MAX_CORNER_RADIUS_CELLS,
     PRECONDITIONERS,
     PRESSURE_SCHEMES,
     VISCOSITY_PRECONDITIONERS,
     VISCOSITY_TOLERANCE,
+    BoundaryMethod,
+    Preconditioner,
+    PressureScheme,
+    ViscosityPreconditioner,
 )
 from solver.shapes import Ball, Box, Shape
 from solver.simulation import Fluid, Simulation, SolverSettings
@@ -223,7 +227,7 @@ def _probe(t: Table, grid: Grid) -> Probe:
         shape = Box(t.vector("size", dim, positive=True))
     else:
         shape = Ball(t.number("radius", minimum=0.0, exclusive=True))
-    centre = _point(t, "center", grid)
+    centre = np.array(_point(t, "center", grid))
     if dim == 2:
         orientation = t.number("angle", 0.0)
         omega = t.number("angular_velocity", 0.0)
@@ -236,10 +240,11 @@ def _probe(t: Table, grid: Grid) -> Probe:
     velocity = np.array(t.vector("velocity", dim, (0.0,) * dim))
     reference = np.array(t.vector("reference", dim, (0.0,) * dim))
     path = _path(t, grid) if t.has("path") else None
-    interpolation = t.string("path_interpolation", "linear", choices=list(PATH_INTERPOLATIONS))
+    interpolation = _choice(t, "path_interpolation", "linear", PATH_INTERPOLATIONS)
     t.finish()
-    return Probe(name, shape, dim, np.array(centre), orientation, velocity, omega, path, reference,
-                 interpolation)  # fmt: skip
+    return Probe(
+        name, shape, dim, centre, orientation, velocity, omega, path, reference, interpolation
+    )
 
 
 def _path(t: Table, grid: Grid) -> np.ndarray:
@@ -308,7 +313,7 @@ def _line(t: Table, grid: Grid) -> LineOutput:
 
 def _settings(t: Table) -> SolverSettings:
     s = SolverSettings(
-        advection=t.string("advection", "linear", choices=list(ADVECTION_CHOICES)),
+        advection=_choice(t, "advection", "linear", ADVECTION_CHOICES),
         pressure_tolerance=t.number(
             "pressure_tolerance", 1e-6, minimum=0.0, exclusive=True, maximum=1.0
         ),
@@ -316,7 +321,7 @@ def _settings(t: Table) -> SolverSettings:
             "viscosity_tolerance", VISCOSITY_TOLERANCE, minimum=0.0, exclusive=True, maximum=1.0
         ),
         max_iterations=t.integer("max_iterations", 1000, minimum=1, maximum=MAX_ITERATIONS),
-        force_model=t.string("force_model", "stress", choices=list(MODELS)),
+        force_model=_choice(t, "force_model", "stress", FORCE_MODELS),
         drag_coefficient=t.number("drag_coefficient", 1.0, minimum=0.0),
         **method_keys(t),
         warm_start=t.boolean("warm_start", False),
@@ -329,11 +334,11 @@ class MethodKeys(TypedDict):
     """Keyword arguments of :class:`SolverSettings` for its boundary method, pressure scheme and
     preconditioners."""
 
-    boundary_method: str
+    boundary_method: BoundaryMethod
     corner_radius_cells: float
-    pressure_scheme: str
-    preconditioner: str
-    viscosity_preconditioner: str
+    pressure_scheme: PressureScheme
+    preconditioner: Preconditioner
+    viscosity_preconditioner: ViscosityPreconditioner
     threads: int
 
 
@@ -342,8 +347,8 @@ def method_keys(t: Table) -> MethodKeys:
     ``viscosity_preconditioner`` and ``threads`` keys of a ``[solver]`` table (a scene's or a
     paint scene's), defaults filled in, choices and ranges checked."""
     return MethodKeys(
-        boundary_method=t.string(
-            "boundary_method", SolverSettings.boundary_method, choices=list(BOUNDARY_METHODS)
+        boundary_method=_choice(
+            t, "boundary_method", SolverSettings.boundary_method, BOUNDARY_METHODS
         ),
         corner_radius_cells=t.number(
             "corner_radius_cells",
@@ -352,19 +357,28 @@ def method_keys(t: Table) -> MethodKeys:
             maximum=MAX_CORNER_RADIUS_CELLS,
             hint=" (cells)",
         ),
-        pressure_scheme=t.string(
-            "pressure_scheme", SolverSettings.pressure_scheme, choices=list(PRESSURE_SCHEMES)
+        pressure_scheme=_choice(
+            t, "pressure_scheme", SolverSettings.pressure_scheme, PRESSURE_SCHEMES
         ),
-        preconditioner=t.string(
-            "preconditioner", SolverSettings.preconditioner, choices=list(PRECONDITIONERS)
-        ),
-        viscosity_preconditioner=t.string(
+        preconditioner=_choice(t, "preconditioner", SolverSettings.preconditioner, PRECONDITIONERS),
+        viscosity_preconditioner=_choice(
+            t,
             "viscosity_preconditioner",
             SolverSettings.viscosity_preconditioner,
-            choices=list(VISCOSITY_PRECONDITIONERS),
+            VISCOSITY_PRECONDITIONERS,
         ),
         threads=t.integer("threads", SolverSettings.threads, minimum=0, maximum=MAX_THREADS),
     )
+
+
+Mode = TypeVar("Mode", bound=str)
+
+
+def _choice(t: Table, key: str, default: str, choices: tuple[Mode, ...]) -> Mode:
+    """The string at ``key`` (``default`` when absent), one of ``choices``: the table's error
+    names the file, the key and the choices otherwise."""
+    value = t.string(key, default, choices=choices)
+    return cast(Mode, value)  # one of ``choices``: checked just above
 
 
 def _run(t: Table) -> RunSpec:

@@ -5,6 +5,8 @@ The cell labels and face kinds it writes are defined in :mod:`solver.labels`.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from solver.compiled.jit import inline_kernel, kernel
@@ -12,9 +14,29 @@ from solver.compiled.unsigned import U0, U1
 from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
 
 
+class RigidMotion(NamedTuple):
+    """Per-probe rigid motion, each (n_probes, 3): centre (m, relative to the grid origin),
+    velocity (m/s) and angular velocity (rad/s)."""
+
+    centre: np.ndarray
+    vel: np.ndarray
+    omega: np.ndarray
+
+
+class Component(NamedTuple):
+    """One velocity component: its samples ``q`` (m/s), their face kinds (int8, the same shape)
+    and its axis (0, 1, 2)."""
+
+    q: np.ndarray
+    face_type: np.ndarray
+    axis: int
+
+
 @inline_kernel
-def rigid_velocity(centre, vel, omega, p, x, y, z, axis):
-    """Component ``axis`` of the rigid velocity V + omega x (x - c) of probe ``p`` at (x, y, z)."""
+def rigid_velocity(rigid, p, x, y, z, axis):
+    """Component ``axis`` of the rigid velocity V + omega x (x - c) of probe ``p`` at (x, y, z)
+    (``rigid`` a :class:`RigidMotion`)."""
+    centre, vel, omega = rigid.centre, rigid.vel, rigid.omega
     rx = x - centre[p, 0]
     ry = y - centre[p, 1]
     rz = z - centre[p, 2]
@@ -26,22 +48,21 @@ def rigid_velocity(centre, vel, omega, p, x, y, z, axis):
 
 
 @kernel
-def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_type, values, lo,
-                   hi):  # fmt: skip
-    """Classify the faces of component ``axis`` and set solid faces to the solid's velocity, in
-    the faces ``lo <= (i, j, k) < hi`` (clipped to the array; the rest is left as it is).
+def classify_faces(label, comp, open_ends, rigid, h, window):
+    """Classify the faces of component ``comp`` and set solid faces to the solid's velocity, in
+    the faces of ``window`` (clipped to the array; the rest is left as it is).
 
     Args:
         label: cell labels, shape (nx, ny, nz).
-        axis: the velocity component (0, 1, 2).
-        open_lo, open_hi: whether the domain side at the low/high end of ``axis`` is an outflow.
-        centre, vel, omega: per-probe rigid motion, each shape (n_probes, 3), SI units; positions
-            relative to the grid origin.
+        comp: the :class:`Component`: its ``face_type`` is written, its solid faces' ``q`` set.
+        open_ends: (low, high), whether the domain side at that end of the axis is an outflow.
+        rigid: the probes' :class:`RigidMotion`.
         h: cell size, metres.
-        face_type: output, int8 array of the component's shape.
-        values: the component's velocity array; solid faces are overwritten.
-        lo, hi: (3,) int64, the box of faces to classify.
+        window: the :class:`~solver.bundles.Window` of faces to classify.
     """
+    values, face_type, axis = comp
+    open_lo, open_hi = open_ends
+    lo, hi = window
     nx, ny, nz = face_type.shape
     n_axis = label.shape[axis]
     di = U1 if axis == 0 else U0
@@ -84,7 +105,7 @@ def classify_faces(label, axis, open_lo, open_hi, centre, vel, omega, h, face_ty
                     x = (i + (0.0 if axis == 0 else 0.5)) * h
                     y = (j + (0.0 if axis == 1 else 0.5)) * h
                     z = (k + (0.0 if axis == 2 else 0.5)) * h
-                    values[i, j, k] = rigid_velocity(centre, vel, omega, owner, x, y, z, axis)
+                    values[i, j, k] = rigid_velocity(rigid, owner, x, y, z, axis)
                 else:
                     values[i, j, k] = 0.0
 

@@ -53,10 +53,17 @@ def _tangential_derivative(q, b, t, i, j, k, h):
 
 
 @kernel
-def _face_traction(comps, pressure, mu, p, gi, gj, gk, b, s, xf, yf, zf, dim, h, rigid, out):
-    """Traction (N/m^2) on probe ``p`` at its face across axis ``b`` (direction ``s``) into fluid
-    cell (gi, gj, gk) into ``out`` (3,); returns the pressure part's component along ``b``."""
-    centre, vel, omega = rigid
+def _face_traction(fields, p, face, point, dim, h, rigid, out):
+    """Traction (N/m^2) on probe ``p`` (``rigid`` a :class:`~solver.staircase.faces.RigidMotion`)
+    at its face ``face`` (gi, gj, gk, b, s: into fluid cell (gi, gj, gk) across axis ``b``,
+    direction ``s``), centred at ``point`` (x, y, z), with that cell's viscosity, into ``out``
+    (3,); returns the pressure part's component along ``b``."""
+    u, v, w = fields.velocity
+    comps = (u, v, w)
+    pressure = fields.pressure
+    gi, gj, gk, b, s = face
+    xf, yf, zf = point
+    mu = fields.mu_cell[gi, gj, gk]
     qb = comps[b]
     dndn = (qb[gi + (b == 0), gj + (b == 1), gk + (b == 2)] - qb[gi, gj, gk]) / h
     out[:] = 0.0
@@ -66,33 +73,31 @@ def _face_traction(comps, pressure, mu, p, gi, gj, gk, b, s, xf, yf, zf, dim, h,
             continue
         qt = comps[t]
         ut = 0.5 * (qt[gi, gj, gk] + qt[gi + (t == 0), gj + (t == 1), gk + (t == 2)])
-        wall = rigid_velocity(centre, vel, omega, p, xf, yf, zf, t)
+        wall = rigid_velocity(rigid, p, xf, yf, zf, t)
         out[t] = mu * (2.0 * (ut - wall) / h + s * _tangential_derivative(qb, b, t, gi, gj, gk, h))
     return -pressure[gi, gj, gk] * s
 
 
 @kernel
-def stress_integral(
-    label, u, v, w, pressure, mu_cell, h, dim, rigid, reference, f_pressure, f_viscous, torque
-):
-    """Accumulate per-probe pressure force, viscous force and torque (arrays (n_probes, 3)).
+def stress_integral(label, fields, h, dim, rigid, reference, out):
+    """Accumulate per-probe pressure force, viscous force and torque.
 
     Args:
         label: cell labels (probe index >= 0, ``FLUID``, ``STATIC_SOLID``).
-        u, v, w: velocity components (m/s); pressure (Pa) at cells.
-        mu_cell: dynamic viscosity (Pa s) per cell.
+        fields: the :class:`~solver.bundles.StressFields` (velocity, pressure, viscosity).
         h: cell size (m); dim: 2 or 3.
-        rigid: (centre, velocity, angular velocity), each (n_probes, 3), relative to the origin.
+        rigid: the probes' :class:`~solver.staircase.faces.RigidMotion`.
         reference: torque reference points (n_probes, 3), relative to the grid origin.
-        f_pressure, f_viscous, torque: outputs (n_probes, 3): N and N m in 3D, per unit depth in 2D.
+        out: the :class:`~solver.bundles.ForceSums`, (n_probes, 3) each: N and N m in 3D, per
+            unit depth in 2D.
     """
+    f_pressure, f_viscous, torque = out
     nx, ny, nz = label.shape
     shape = (nx, ny, nz)
     area = h ** (dim - 1)
     f_pressure[:] = 0.0
     f_viscous[:] = 0.0
     torque[:] = 0.0
-    comps = (u, v, w)
     traction = np.zeros(3)
     force = np.zeros(3)
     for i in range(nx):
@@ -112,25 +117,8 @@ def stress_integral(
                         xf = (i + 0.5 + 0.5 * s * (b == 0)) * h
                         yf = (j + 0.5 + 0.5 * s * (b == 1)) * h
                         zf = (k + 0.5 + 0.5 * s * (b == 2)) * h
-                        mu = mu_cell[gi, gj, gk]
-                        pn = _face_traction(
-                            comps,
-                            pressure,
-                            mu,
-                            p,
-                            gi,
-                            gj,
-                            gk,
-                            b,
-                            s,
-                            xf,
-                            yf,
-                            zf,
-                            dim,
-                            h,
-                            rigid,
-                            traction,
-                        )
+                        face = (gi, gj, gk, b, s)
+                        pn = _face_traction(fields, p, face, (xf, yf, zf), dim, h, rigid, traction)
                         f_pressure[p, b] += pn * area
                         for c in range(3):
                             f_viscous[p, c] += traction[c] * area

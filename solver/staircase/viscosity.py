@@ -18,19 +18,83 @@ friction of the no-slip surface beneath it.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import NamedTuple
+
 import numpy as np
 
 from solver.boundary import INFLOW, WALL
+from solver.bundles import Sides
 from solver.compiled.jit import kernel
 from solver.labels import FREE, INTERIOR
 from solver.linalg.pcg import LinearSolve, SolveReport, StencilSystem, solve
-from solver.staircase.faces import rigid_velocity
+from solver.staircase.faces import Component, RigidMotion, rigid_velocity
+
+
+class Walls(NamedTuple):
+    """The probes as the viscosity solve's walls: the cell labels (a probe's index where it
+    covers the cell), the probes' rigid motion and the cell size ``h`` (m)."""
+
+    label: np.ndarray
+    rigid: RigidMotion
+    h: float
+
+
+class Diffusion(NamedTuple):
+    """One component's diffusion coefficients: the viscosity at its samples (Pa s), ``scale`` =
+    ``dt / (rho h^2)`` (a pair's coefficient is ``scale * mu_pair``) and the linear drag's
+    ``k dt`` at its samples."""
+
+    mu_face: np.ndarray
+    scale: float
+    drag_face: np.ndarray
+
+
+class DiffusionArrays(NamedTuple):
+    """What a component's assembly fills, each of the component's shape: the diagonal, the
+    couplings to the next sample along x, y and z, the unknowns' mask and the right-hand side."""
+
+    diag: np.ndarray
+    offx: np.ndarray
+    offy: np.ndarray
+    offz: np.ndarray
+    active: np.ndarray
+    rhs: np.ndarray
+
+    @classmethod
+    def of(cls, system: StencilSystem, rhs: np.ndarray) -> DiffusionArrays:
+        """The arrays of ``system`` and ``rhs``."""
+        return cls(system.diag, system.off[0], system.off[1], system.off[2], system.active, rhs)
+
+
+@dataclass(frozen=True)
+class ViscousStep:
+    """What one step's viscosity solves share across the components.
+
+    Attributes:
+        dim: 2 or 3.
+        mu_cell: dynamic viscosity per cell (Pa s, cells' shape).
+        dt_s: the time step, s.
+        density_kg_m3: the fluid's density.
+        sides: the domain's sides (kinds and velocities).
+        drag_cell: the linear drag rate per cell (1/s, cells' shape), or None for none.
+    """
+
+    dim: int
+    mu_cell: np.ndarray
+    dt_s: float
+    density_kg_m3: float
+    sides: Sides
+    drag_cell: np.ndarray | None = None
 
 
 @kernel
-def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
-    """Component ``axis`` of the solid's velocity on the surface between face (i, j, k) and its
-    solid neighbour (ii, jj, kk) across axis ``b`` (direction ``s``)."""
+def _surface_velocity(walls, axis, face, nb, b, s):
+    """Component ``axis`` of the solid's velocity on the surface between face ``face`` (i, j, k)
+    and its solid neighbour ``nb`` (ii, jj, kk) across axis ``b`` (direction ``s``)."""
+    label, rigid, h = walls.label, walls.rigid, walls.h
+    i, j, k = face
+    ii, jj, kk = nb
     owner = label[
         min(ii, label.shape[0] - 1), min(jj, label.shape[1] - 1), min(kk, label.shape[2] - 1)
     ]
@@ -43,13 +107,13 @@ def _surface_velocity(label, rigid, axis, i, j, k, ii, jj, kk, b, s, h):
     x = (i + (0.0 if axis == 0 else 0.5) + 0.5 * s * (b == 0)) * h
     y = (j + (0.0 if axis == 1 else 0.5) + 0.5 * s * (b == 1)) * h
     z = (k + (0.0 if axis == 2 else 0.5) + 0.5 * s * (b == 2)) * h
-    return rigid_velocity(rigid[0], rigid[1], rigid[2], owner, x, y, z, axis)
+    return rigid_velocity(rigid, owner, x, y, z, axis)
 
 
 @kernel
 def face_viscosity(mu_cell, axis, out):
     """Viscosity at the faces normal to ``axis``: mean of the two cells (edge faces: one cell).
-    A 2D grid's single layer is no innermost loop (5.5-7.4 -> 1.0-2.9 us at 64²)."""
+    A 2D grid's single layer is no innermost loop."""
     nx, ny, nz = out.shape
     n_axis = mu_cell.shape[axis]
     if nz == 1 and axis != 2:  # 2D: no loop over a single layer
@@ -78,17 +142,13 @@ def face_viscosity(mu_cell, axis, out):
 
 
 @kernel
-def build_variable_system(
-    q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h, sys_out,
-    rhs,
-):  # fmt: skip
-    """Assemble the diffusion system of component ``axis`` with face viscosities ``mu_face``.
-
-    ``scale`` is ``dt / (rho h^2)`` so that a pair coefficient is ``scale * mu_pair``;
-    ``drag_face`` holds ``k dt`` of the linear drag at each face.
-    ``sys_out`` is ``(diag, offx, offy, offz, active)``; ``rhs`` receives the right-hand side.
-    """
-    diag, offx, offy, offz, active = sys_out
+def build_variable_system(comp, dim, coeffs, sides, walls, out):
+    """Assemble the diffusion system of component ``comp`` (:class:`Diffusion` ``coeffs``, the
+    domain's ``sides``, the probes as ``walls``) into ``out`` (:class:`DiffusionArrays`)."""
+    q, face_type, axis = comp
+    mu_face, scale, drag_face = coeffs
+    kinds, side_vel = sides
+    diag, offx, offy, offz, active, rhs = out
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
     for i in range(nx):
@@ -130,9 +190,7 @@ def build_variable_system(
                                 else:
                                     offz[i, j, k] = -c
                         elif t == INTERIOR and b != axis:
-                            wall = _surface_velocity(
-                                label, rigid, axis, i, j, k, ii, jj, kk, b, s, h
-                            )
+                            wall = _surface_velocity(walls, axis, (i, j, k), (ii, jj, kk), b, s)
                             d += 2.0 * own
                             r += 2.0 * own * wall
                         else:
@@ -143,28 +201,18 @@ def build_variable_system(
 
 
 def diffuse(
-    q: np.ndarray,
-    face_type: np.ndarray,
-    axis: int,
-    dim: int,
-    mu_cell: np.ndarray,
-    dt_s: float,
-    density_kg_m3: float,
-    kinds: np.ndarray,
-    side_vel: np.ndarray,
-    label: np.ndarray,
-    rigid: np.ndarray,
-    h: float,
+    comp: Component,
+    step: ViscousStep,
+    walls: Walls,
     tol: float,
     max_iter: int,
-    drag_cell: np.ndarray | None = None,
     linear_solve: LinearSolve = solve,
 ) -> SolveReport:
-    """Apply implicit viscosity with cell viscosities ``mu_cell`` (Pa s, cells' shape) in place.
-
-    ``drag_cell`` (1/s, cells' shape) is the optional linear drag rate. The other arguments are
-    described in the module docstring.
-    """
+    """Apply implicit viscosity to component ``comp`` in place, with the ``step``'s viscosity
+    and drag, the probes as ``walls``; ``linear_solve`` to ``tol`` in ``max_iter`` iterations."""
+    q, axis = comp.q, comp.axis
+    dim, mu_cell, dt_s, drag_cell = step.dim, step.mu_cell, step.dt_s, step.drag_cell
+    h = walls.h
     mu_face = np.empty_like(q)
     face_viscosity(mu_cell, axis, mu_face)
     drag_face = np.zeros_like(q)
@@ -173,10 +221,7 @@ def diffuse(
         drag_face *= dt_s
     system = StencilSystem.empty(q.shape, dim)
     rhs = np.empty_like(q)
-    arrays = (system.diag, system.off[0], system.off[1], system.off[2], system.active)
-    scale = dt_s / (density_kg_m3 * h * h)
-    build_variable_system(
-        q, face_type, axis, dim, mu_face, scale, drag_face, kinds, side_vel, label, rigid, h,
-        arrays, rhs,
-    )  # fmt: skip
+    scale = dt_s / (step.density_kg_m3 * h * h)
+    coeffs = Diffusion(mu_face, scale, drag_face)
+    build_variable_system(comp, dim, coeffs, step.sides, walls, DiffusionArrays.of(system, rhs))
     return linear_solve(system, rhs, q, tol, max_iter)

@@ -22,6 +22,7 @@ import pytest
 
 import solver.simulation as simulation_module
 from paintapp.cli import main
+from solver.bundles import Velocity
 from solver.compiled.layers import layer_count
 from solver.cutcell.projection import cut_flux
 from solver.labels import FLUID
@@ -71,21 +72,21 @@ def projections(monkeypatch) -> ProjectionLog:
     monkeypatch.setattr(simulation_module, "project", recording)
     real_cut = simulation_module.project_cut
 
-    def recording_cut(comps, system, static, open_frac, owner_face, rigid, h, *args):
-        log.before.append(_cut_flux(comps, system, open_frac, owner_face, rigid, h))
-        report = real_cut(comps, system, static, open_frac, owner_face, rigid, h, *args)
-        log.after.append(_cut_flux(comps, system, open_frac, owner_face, rigid, h))
+    def recording_cut(comps, system, static, faces, h, *args):
+        log.before.append(_cut_flux(comps, system, faces, h))
+        report = real_cut(comps, system, static, faces, h, *args)
+        log.after.append(_cut_flux(comps, system, faces, h))
         return report
 
     monkeypatch.setattr(simulation_module, "project_cut", recording_cut)
     return log
 
 
-def _cut_flux(comps, system, open_frac, owner_face, rigid, h) -> np.ndarray:
+def _cut_flux(comps, system, faces, h) -> np.ndarray:
     """Net flux per active cell through the fluid and solid parts of its faces (cut cells)."""
     out = np.empty(system.active.shape)
     layers = layer_count(out.shape)
-    cut_flux(*comps, *open_frac, *owner_face, system.active, system.dim, h, rigid, out, layers)
+    cut_flux(Velocity(*comps), faces, system.active, system.dim, h, out, layers)
     return out[system.active]
 
 

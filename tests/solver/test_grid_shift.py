@@ -12,7 +12,7 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Box
 from solver.simulation import Fluid, Simulation, SolverSettings
-from tests.solver.test_pressure_reassembly import _path
+from tests.solver.cutcell.test_pressure_reassembly import _path
 
 N = 24
 FIELDS = ("phi_node", "owner_node", "fluid_frac", "phi_cell", "owner_cell")

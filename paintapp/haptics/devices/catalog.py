@@ -37,6 +37,14 @@ def builtin_devices() -> list[str]:
     ]
 
 
+def vendor_devices() -> list[str]:
+    """One line per vendor backend (OpenHaptics, Force Dimension DHD, Haply): found or not
+    found and why (:func:`paintapp.haptics.devices.backends.vendor_listing`; opens nothing)."""
+    from paintapp.haptics.devices.backends import vendor_listing
+
+    return vendor_listing()
+
+
 def hid_listing() -> list[str]:
     """Every HID interface found, or why there are none."""
     try:

@@ -1,24 +1,21 @@
 """USB HID PID force feedback (the "Physical Interface Device" class of force-feedback joysticks
 and wheels): one constant-force effect whose magnitude and direction follow the servo force.
 
-Report layout: that of the example descriptor in the USB "Device Class Definition for Physical
-Interface Devices" 1.0, which open-source force-feedback firmwares follow. Report IDs and the
-magnitude range are in :class:`PidLayout`; each output report is padded to the size the device's
-report descriptor declares, and opening fails with a clear message if the device declares a
-report smaller than this layout needs. The joystick's axes and buttons are found in its input
-report through the report descriptor (:mod:`paintapp.haptics.devices.hid_descriptor`).
+Report layout: the example descriptor's in the USB "Device Class Definition for Physical
+Interface Devices" 1.0, as open-source force-feedback firmwares follow it; report IDs and the
+magnitude range in :class:`PidLayout`. Output reports are padded to the size the device declares
+(opening fails, with a clear message, where that is smaller than this layout needs); axes and
+buttons are found through the report descriptor (:mod:`paintapp.haptics.devices.hid_descriptor`).
 
 Sequence (:class:`PidDriver`): on start, Device Control "enable actuators", Device Gain full,
 feature "Create New Effect" (constant force), feature "PID Block Load" (the effect block index),
 "Set Effect" (infinite duration, X and Y axes, direction), "Set Constant Force" 0, "Effect
 Operation" start. Each tick: "Set Effect" again only if the direction changed, "Set Constant
 Force" only if the magnitude changed. On stop: magnitude 0, "Effect Operation" stop, "PID Block
-Free", Device Control "disable actuators".
-
-Direction: one byte, 0..255 for 0..360 degrees, measured from the stick's +y axis toward +x,
-the way the force pushes (``direction_offset_deg`` adapts devices with another convention).
-A joystick senses and actuates two axes: x, y map onto the workspace; button 0 held puts the tip
-``pen_down_depth_m`` below the canvas, otherwise it hovers ``hover_m`` above.
+Free", Device Control "disable actuators". Direction: one byte, 0..255 for 0..360 degrees from
+the stick's +y axis toward +x, the way the force pushes (``direction_offset_deg`` adapts other
+conventions). The stick's x, y map onto the workspace; button 0 held puts the tip
+``pen_down_depth_m`` below the canvas, else it hovers ``hover_m`` above.
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ from scipy.ndimage import binary_dilation, gaussian_filter
 from brushes import Section, load_preset_named
 from brushes.bristles import Bristles
 from paintapp.canvas.model import Canvas
-from paintapp.paint.bristles import BristleTexture, near_points
+from paintapp.paint.bristles import Apex, BristleTexture, near_points
 from paintapp.paint.columns import ColumnWindow, transfer_weights
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
@@ -190,7 +190,7 @@ def test_the_footprint_s_near_texels_are_numpy_s(seed):
     near = gx**2 + gy**2 <= radius**2
     want = np.stack([cos * gx[near] + sin * gy[near], -sin * gx[near] + cos * gy[near]], axis=-1)
     body, index = np.empty((nx * ny, 2)), np.empty(nx * ny, np.int64)
-    count = near_points(sx0, sy0, t, cx, cy, cos, sin, radius**2, nx, ny, body, index)
+    count = near_points(Apex(t, cx, cy, cos, sin), radius**2, sx0, sy0, nx, ny, body, index)
     assert count == int(near.sum())
     np.testing.assert_array_equal(body[:count], want)
     np.testing.assert_array_equal(index[:count], np.flatnonzero(near))

@@ -11,13 +11,13 @@ from scipy.ndimage import binary_fill_holes, maximum_filter
 from brushes import PaintReservoir
 from paintapp.canvas.lattice import count_holes
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
-from paintapp.paint.paint_model import PaintModel
-from paintapp.paint.texel_transfer import (
+from paintapp.paint.columns_kernels import (
     HOLE_FILL,
     close_pinholes,
     fill_thin_holes,
     gather_fringe_films,
 )
+from paintapp.paint.paint_model import PaintModel
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import paint, small_scene
 from tests.support.demo_strokes import StrokeSpec

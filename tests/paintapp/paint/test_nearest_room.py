@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
+from paintapp.paint.cell_kernels import probe_rings, spread_into_rings
 from paintapp.paint.exchange import CellSpace, place_pushed
-from paintapp.paint.kernels import probe_rings, spread_into_rings
 from paintapp.paint.nearest_room import FILL_WIDTH, LEVEL_TOLERANCE, fill_nearest, tip_distance
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.session.comb import period_depths

@@ -10,13 +10,13 @@ import pytest
 from brushes import StylusSample, TipTracker, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
+from paintapp.paint.cell_kernels import fill_columns
 from paintapp.paint.columns import AxisWeights, ColumnWindow, cell_texels, transfer_weights
+from paintapp.paint.columns_kernels import axis_taps
 from paintapp.paint.grid3d import PaintGrid3D
-from paintapp.paint.kernels import fill_columns
 from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.paint.selector import MODEL_CLASSES
-from paintapp.paint.texel_transfer import axis_taps
 from paintapp.resources import asset_path
 
 BRUSHES = asset_path("brushes")

@@ -1,4 +1,4 @@
-"""A step's change laid along the path the tip swept (texel_transfer.sweep_change)."""
+"""A step's change laid along the path the tip swept (columns_kernels.sweep_change)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from common.errors import InputError
+from paintapp.paint.columns_kernels import _water_fill, sweep_change
 from paintapp.paint.paint_scene import parse_paint_scene
-from paintapp.paint.texel_transfer import _water_fill, sweep_change
 
 
 def canvas_and_change(rng: np.random.Generator, pigments: int = 2):

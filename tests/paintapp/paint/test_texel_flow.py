@@ -10,9 +10,9 @@ from scipy.ndimage import binary_fill_holes
 from paintapp.canvas.lattice import lattice_ratio, null_ratio
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.columns import ColumnWindow
-from paintapp.paint.texel_flow import advance, substeps_needed
 from paintapp.paint.texel_velocity import column_face_velocity, texel_face_velocity
 from paintapp.paint.wet_flow import clear_thin_edges, columns_box, flow_wet_paint
+from paintapp.paint.wet_flow_kernels import advance, substeps_needed
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import BLUE, paint, small_scene
 from tests.support.demo_strokes import StrokeSpec

@@ -9,8 +9,8 @@ import pytest
 from scipy.ndimage import uniform_filter1d
 
 from paintapp.canvas.model import Canvas
+from paintapp.paint.cell_kernels import sweep_overlap
 from paintapp.paint.exchange import CellSpace, cell_caps, plough_weights
-from paintapp.paint.kernels import sweep_overlap
 from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.paint.trail import MIN_UPWIND_FLUID, lay_trail, paint_faces, vacated_share
 from paintapp.session.comb import period_depths, scan_periods

@@ -52,8 +52,7 @@ def _hierarchy(s: StencilSystem) -> Multigrid:
 
 def _precondition(mg: Multigrid, r: np.ndarray) -> np.ndarray:
     z = np.zeros(r.size)
-    v_cycle(mg.diag, *mg.off, mg.active, mg.inv, mg.shapes, mg.starts, r.reshape(-1).copy(), z,
-            mg.work[4], mg.work[5])  # fmt: skip
+    v_cycle(mg.hierarchy, r.reshape(-1).copy(), z, mg.work[4], mg.work[5])
     return z
 
 

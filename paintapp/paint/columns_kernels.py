@@ -12,11 +12,13 @@ A texel's *mobile* paint is its paint times its wetness, the wetness read as 1 f
 :data:`FULLY_WET` up (float32 round-off of fresh paint is no dry residue).
 
 :func:`sweep_change` then lays a step's change along the path the tip travelled during the step
-(a step computes it with the tip at its end pose only, which printed one tooth per step along a
-fast stroke).
+(a step computes it with the tip at its end pose only, which alone would print one tooth per step
+along a fast stroke).
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -26,9 +28,8 @@ from solver import inline_kernel, kernel
 TAPS = 3
 
 #: Most samples along the path that a swept change is averaged over: enough for a sample a
-#: texel along the demo's fastest sub-steps (6.3 texels); each sample is a pass over the box,
-#: and on the painting window's A4 canvas (1.2 mm cells, 21 texels a sub-step) eight cost its
-#: write-back 1.6-4.2 ms a step over four (of 26-28 ms), sixteen about 8 ms.
+#: texel along the demo's fastest sub-steps (6.3 texels); each sample is a pass over the box, so
+#: the write-back's cost grows with it.
 MAX_SWEEP_SAMPLES = 8
 
 #: What :func:`fill_thin_holes` lifts a hole's paint to, in film floors: clear of the floor
@@ -40,6 +41,25 @@ MAX_HOLE_TEXELS = 8
 
 #: Wetness at or above which a texel counts as fully wet (float32 round-off of 1).
 FULLY_WET = 1.0 - 2.0**-20
+
+
+class TexelBox(NamedTuple):
+    """A box of canvas texels and its transfer weights, as the kernels take them."""
+
+    #: (P, H, W) float32: the canvas's paint per pigment (m), read and written in place.
+    paint: np.ndarray
+    #: (H, W) float32: the canvas's wetness.
+    wetness: np.ndarray
+    #: The box's first texel, x and y.
+    x0: int
+    y0: int
+    #: (nx,) int64 and (nx, TAPS): each texel column's first column and taps along x
+    #: (:func:`weight_taps`).
+    fx: np.ndarray
+    tx: np.ndarray
+    #: (ny,) and (ny, TAPS): the same along y.
+    fy: np.ndarray
+    ty: np.ndarray
 
 
 def axis_taps(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -65,8 +85,7 @@ def weight_taps(origin, k, tent, first, taps, sums):
     :func:`paintapp.paint.columns.transfer_weights` builds (columns ``0..sums.size - 1``, texels
     ``0..first.size - 1``), computed texel by texel with its arithmetic (the same values), and
     each column's total into ``sums``, without the dense (columns, texels) array: a window that
-    follows the tip continuously needs new weights every step (0.15 ms each from the dense
-    form on a 32-column, 136-texel axis). Returns False if a texel's weights reach more than
+    follows the tip continuously needs new weights every step. Returns False if a texel's weights reach more than
     ``TAPS`` columns."""
     n_col, n_tex = sums.size, first.size
     sums[:] = 0.0
@@ -104,16 +123,17 @@ def _mobile_share(wet):
 
 
 @kernel
-def texels_to_columns(paint, wetness, x0, y0, fx, tx, fy, ty, loss_w, gain_w, textured,
-                      out_mobile, out_gain):  # fmt: skip
-    """Weighted sums over the texels of box (x0, y0, len(fx), len(fy)) into columns:
-    ``out_mobile`` (P, ni, nj) gets the mobile paint (times ``loss_w``, (ny, nx), when
-    ``textured``) and ``out_gain`` (ni, nj) the gain weights ``gain_w`` (when ``textured``).
-    Both are overwritten.
+def texels_to_columns(box, texture, textured, out_mobile, out_gain):
+    """Weighted sums over the texels of ``box`` (a :class:`TexelBox`) into columns:
+    ``out_mobile`` (P, ni, nj) gets the mobile paint (times the loss weights when ``textured``)
+    and ``out_gain`` (ni, nj) the gain weights (when ``textured``); ``texture`` is the
+    (gain, loss) weights, each (ny, nx). Both are overwritten.
 
     Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
     column (``k`` of them) sums its three taps in registers and adds them to the row's columns
     once, instead of a load and a store per tap and texel (each waiting on the last one's)."""
+    paint, wetness, x0, y0, fx, tx, fy, ty = box
+    gain_w, loss_w = texture
     n_p, ni, _ = out_mobile.shape
     nx, ny = fx.shape[0], fy.shape[0]
     out_mobile[:] = 0.0
@@ -192,14 +212,17 @@ def _at_texel(row, p, i0, tx_x):
 
 
 @kernel
-def spread_to_texels(paint, wetness, x0, y0, fx, tx, fy, ty, gain, first, rest, gain_w, loss_w,
-                     textured, new_mobile, touched, total):  # fmt: skip
-    """New mobile paint (P, ny, nx) into ``new_mobile``, the texels that changed into
-    ``touched`` (ny, nx) and their new paint (dry + new mobile, all pigments) into ``total``
-    (ny, nx), for column gains ``gain`` and loss fractions ``first`` and ``rest``
-    (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a texel gains
-    ``g * sum w gain`` and loses ``m (b * sum w first + (1 - b) * sum w rest)`` (``g``, ``b``:
-    the gain and loss weights when ``textured``, else 1 and 1). Reads the canvas only."""
+def spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
+    """New mobile paint (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
+    :class:`TexelBox`) that changed into ``touched`` (ny, nx) and their new paint (dry + new
+    mobile, all pigments) into ``total`` (ny, nx), for ``rates`` = (gain, first, rest): column
+    gains and loss fractions (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a
+    texel gains ``g * sum w gain`` and loses ``m (b * sum w first + (1 - b) * sum w rest)``
+    (``g``, ``b``: the gain and loss weights ``texture`` when ``textured``, else 1 and 1).
+    Reads the canvas only."""
+    paint, wetness, x0, y0, fx, tx, fy, ty = box
+    gain, first, rest = rates
+    gain_w, loss_w = texture
     n_p, ni, _ = gain.shape
     nx, ny = fx.shape[0], fy.shape[0]
     row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column

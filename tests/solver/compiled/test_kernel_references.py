@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.boundary import INFLOW, OUTFLOW, SLIP, WALL, set_normal_faces
+from solver.bundles import Velocity
 from solver.compiled.layers import layer_count
 from solver.cutcell.geometry import (
     _fill,
@@ -20,6 +21,7 @@ from solver.cutcell.geometry import (
     take_closer_2d,
 )
 from solver.cutcell.projection import (
+    CutFaces,
     cut_flux,
     fill_fresh_pressure,
     pressure_rhs,
@@ -27,6 +29,7 @@ from solver.cutcell.projection import (
     subtract_cut_gradient,
 )
 from solver.linalg.pcg import apply_stencil
+from solver.staircase.faces import RigidMotion
 from solver.staircase.viscosity import face_viscosity
 
 
@@ -262,10 +265,11 @@ def test_a_2d_flux_compiled_for_one_layer_is_the_general_loops(nx, ny, seed):
     open_frac = [np.where(rng.random(s) < 0.3, rng.random(s), 1.0) for s in shapes]
     owners = [np.where(f < 1.0, 0, -1).astype(np.int32) for f in open_frac]
     active = rng.random(cells) < 0.9
-    rigid = rng.standard_normal((3, 1, 3))
+    rigid = RigidMotion(*rng.standard_normal((3, 1, 3)))
+    faces = CutFaces(tuple(open_frac), tuple(owners), rigid)
     outs = [np.full(cells, np.nan), np.full(cells, np.nan)]
     for out, layers in zip(outs, (layer_count(cells), 1), strict=True):
-        cut_flux(*comps, *open_frac, *owners, active, 2, 0.1, rigid, out, layers)
+        cut_flux(Velocity(*comps), faces, active, 2, 0.1, out, layers)
     assert layer_count(cells) is None
     np.testing.assert_array_equal(outs[0], outs[1])
 

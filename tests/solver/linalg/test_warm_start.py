@@ -112,7 +112,7 @@ def test_without_the_setting_no_solution_is_kept():
 
 @pytest.mark.parametrize("value", [True, False])
 def test_a_scene_file_sets_the_warm_start(tmp_path, value):
-    from tests.solver.test_scene_files import GOOD, _write
+    from tests.solver.scenes.test_scene_files import GOOD, _write
 
     text = GOOD.replace("[run]", f"[solver]\nwarm_start = {str(value).lower()}\n\n[run]", 1)
     assert load_scene(_write(tmp_path, text)).settings.warm_start is value

@@ -15,6 +15,7 @@ from solver.advection.velocity import (
     advect_face_3d,
     advect_velocity,
 )
+from solver.bundles import Velocity
 
 
 def _fields(cells, seed, speed):
@@ -38,7 +39,7 @@ def test_face_kernel_gives_the_general_kernel_s_values(nx, ny, nz, axis, seed, s
     q = (u, v, w)[axis]
     h, dt = 0.1, 0.07
     general = np.empty_like(q)
-    advect_component(q, axis, u, v, w, 3, h, dt, general, general, general, False)
+    advect_component(q, axis, Velocity(u, v, w), 3, h, dt, general, (general, general), False)
     fast = np.empty_like(q)
     advect_face_3d(q, axis, u, v, w, h, dt, fast, 0, q.shape[0])
     np.testing.assert_array_equal(fast, general)
@@ -60,7 +61,7 @@ def test_2d_face_kernel_gives_the_general_kernel_s_values(nx, ny, axis, seed, sp
     q = (u, v)[axis]
     h, dt = 0.1, 0.07
     general = np.empty_like(q)
-    advect_component(q, axis, u, v, w, 2, h, dt, general, general, general, False)
+    advect_component(q, axis, Velocity(u, v, w), 2, h, dt, general, (general, general), False)
     fast = np.empty_like(q)
     advect_face_2d(q, axis, u, v, h, dt, fast, 0, q.shape[0])
     np.testing.assert_array_equal(fast, general)

@@ -11,7 +11,7 @@ from solver.grid import Grid
 from solver.probes import Probe
 from solver.shapes import Box
 from solver.simulation import Fluid, Simulation, SolverSettings
-from tests.solver.test_pressure_reassembly import N, _path
+from tests.solver.cutcell.test_pressure_reassembly import N, _path
 
 
 def _pair(dim: int, steps: int, dt: float, solid: np.ndarray | None) -> list[Simulation]:

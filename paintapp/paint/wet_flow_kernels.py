@@ -9,16 +9,13 @@ One sub-step of ``dt`` moves, through every interior face, ``|c| q_f`` from the 
 to the downwind one ``b`` (``c = u dt`` the face's Courant number). ``q_f`` is the upwind value
 with a van Leer limited slope, ``q_f = q_a + (1 - |c|) s d / (s + d)`` where ``d = q_b - q_a``,
 ``s = q_a - q_up`` and ``s d > 0`` (else ``q_f = q_a``): second order where the paint is smooth,
-first order at a steep edge, so a sharp edge stays a few texels sharp instead of spreading like
-the first-order scheme's tail (its width grows with the square root of the distance moved). The
-face value lies between ``q_b`` and ``q_a`` (or is ``q_a``), so it is never negative.
+first order at a steep edge, which stays a few texels sharp; never negative.
 
-Every flux leaves one texel and enters its neighbour, so each pigment's total is conserved to
-round-off. Positivity: with the sub-steps chosen so that every texel's outgoing Courant numbers
-sum to at most 1 (:func:`substeps_needed`), a limited face value can still exceed its donor's
-paint where two faces draw on it; each texel's outgoing fluxes are then scaled down together so
-that they sum to at most what it holds (a flux has a single donor, so this stays conservative),
-and no texel goes negative.
+Every flux leaves one texel and enters its neighbour: each pigment's total is conserved to
+round-off. With sub-steps such that every texel's outgoing Courant numbers sum to at most 1
+(:func:`substeps_needed`), a limited face value can still exceed its donor's paint where two
+faces draw on it; each texel's outgoing fluxes are then scaled down together to at most what it
+holds (still conservative: a flux has a single donor), so no texel goes negative.
 """
 
 from __future__ import annotations

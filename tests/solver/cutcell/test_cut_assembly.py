@@ -13,13 +13,20 @@ import numpy as np
 import pytest
 
 from solver.boundary import INFLOW, OUTFLOW, WALL
+from solver.bundles import Sides, Window
 from solver.compiled.layers import layer_count
 from solver.cutcell.projection import build_cut_pressure_system, subtract_cut_gradient
-from solver.cutcell.viscosity import build_cut_system
+from solver.cutcell.viscosity import CutWalls, build_cut_system
 from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
-from solver.staircase.faces import classify_faces
+from solver.staircase.faces import Component, RigidMotion, classify_faces
 from solver.staircase.projection import build_pressure_system, subtract_gradient
-from solver.staircase.viscosity import build_variable_system, face_viscosity
+from solver.staircase.viscosity import (
+    Diffusion,
+    DiffusionArrays,
+    Walls,
+    build_variable_system,
+    face_viscosity,
+)
 
 FAR = 1e9
 
@@ -39,9 +46,10 @@ def _faces(label, dim, kinds, shape, axis, rng):
     face_type = np.zeros(shape, dtype=np.int8)
     values = rng.standard_normal(shape)
     none = np.zeros((1, 3))
-    whole = (np.zeros(3, dtype=np.int64), np.array(shape, dtype=np.int64))
-    classify_faces(label, axis, kinds[axis, 0] == OUTFLOW, kinds[axis, 1] == OUTFLOW, none, none,
-                   none, 0.1, face_type, values, *whole)  # fmt: skip
+    whole = Window(np.zeros(3, dtype=np.int64), np.array(shape, dtype=np.int64))
+    open_ends = (kinds[axis, 0] == OUTFLOW, kinds[axis, 1] == OUTFLOW)
+    rigid = RigidMotion(none, none, none)
+    classify_faces(label, Component(values, face_type, axis), open_ends, rigid, 0.1, whole)
     return face_type, values
 
 
@@ -52,7 +60,7 @@ def test_cut_viscosity_system_without_probes_is_the_staircases(dim):
         cells, label, kinds = _grid(rng, dim)
         mu = rng.uniform(0.01, 3.0, cells)
         side_vel = rng.standard_normal((3, 2, 3))
-        rigid = np.zeros((3, 1, 3))
+        rigid = RigidMotion(*np.zeros((3, 1, 3)))
         for axis in range(dim):
             shape = tuple(c + (a == axis) for a, c in enumerate(cells))
             face_type, q = _faces(label, dim, kinds, shape, axis, rng)
@@ -64,12 +72,14 @@ def test_cut_viscosity_system_without_probes_is_the_staircases(dim):
             for cut in (True, False):
                 arrays = (*(np.full(shape, 7.0) for _ in range(4)), np.zeros(shape, dtype=bool))
                 rhs = np.full(shape, 7.0)
-                common = (q, face_type, axis, dim, mu_face, 0.8, drag, kinds, side_vel, label,
-                          rigid, 0.1)  # fmt: skip
+                comp = Component(q, face_type, axis)
+                coeffs, sides = Diffusion(mu_face, 0.8, drag), Sides(kinds, side_vel)
+                out = DiffusionArrays(*arrays, rhs)
                 if cut:
-                    build_cut_system(*common, phi, owner, arrays, rhs, layer_count(shape))
+                    walls = CutWalls(label, rigid, 0.1, phi, owner)
+                    build_cut_system(comp, dim, coeffs, sides, walls, out, layer_count(shape))
                 else:
-                    build_variable_system(*common, arrays, rhs)
+                    build_variable_system(comp, dim, coeffs, sides, Walls(label, rigid, 0.1), out)
                 built.append((*arrays, rhs))
             for a, b in zip(*built, strict=True):
                 np.testing.assert_array_equal(a, b)
@@ -85,7 +95,7 @@ def test_cut_viscosity_short_path_gives_the_general_paths_system(dim):
     for trial in range(30):
         cells, _, kinds = _grid(rng, dim)
         label = rng.choice([-1, -1, -1, 0, 1], size=cells).astype(np.int32)
-        rigid = rng.standard_normal((3, 2, 3))
+        rigid = RigidMotion(*rng.standard_normal((3, 2, 3)))
         side_vel = rng.standard_normal((3, 2, 3))
         for axis in range(dim):
             shape = tuple(c + (a == axis) for a, c in enumerate(cells))
@@ -101,9 +111,16 @@ def test_cut_viscosity_short_path_gives_the_general_paths_system(dim):
             for short in (True, False):
                 arrays = (*(np.full(shape, 7.0) for _ in range(4)), np.zeros(shape, dtype=bool))
                 rhs = np.full(shape, 7.0)
-                build_cut_system(q, face_type, axis, dim, mu_face, 0.8, drag, kinds, side_vel,
-                                 label, rigid, 0.1, phi, owner, arrays, rhs, layer_count(shape),
-                                 short)  # fmt: skip
+                build_cut_system(
+                    Component(q, face_type, axis),
+                    dim,
+                    Diffusion(mu_face, 0.8, drag),
+                    Sides(kinds, side_vel),
+                    CutWalls(label, rigid, 0.1, phi, owner),
+                    DiffusionArrays(*arrays, rhs),
+                    layer_count(shape),
+                    short,
+                )
                 built.append((*arrays, rhs))
             for a, b in zip(*built, strict=True):
                 np.testing.assert_array_equal(a, b, err_msg=f"trial {trial}, axis {axis}")
@@ -115,10 +132,22 @@ def test_cut_viscosity_short_path_gives_the_general_paths_system(dim):
     for short in (True, False):
         arrays = (*(np.full(shape, 7.0) for _ in range(4)), np.zeros(shape, dtype=bool))
         rhs = np.full(shape, 7.0)
-        build_cut_system(ones, free, 0, dim, ones, 0.8, 0.1 * ones, np.zeros((3, 2), np.int64),
-                         np.ones((3, 2, 3)), np.full(shape, -1, np.int32), np.zeros((3, 1, 3)),
-                         0.1, ones, np.full(shape, -1, np.int32), arrays, rhs,
-                         layer_count(shape), short)  # fmt: skip
+        build_cut_system(
+            Component(ones, free, 0),
+            dim,
+            Diffusion(ones, 0.8, 0.1 * ones),
+            Sides(np.zeros((3, 2), np.int64), np.ones((3, 2, 3))),
+            CutWalls(
+                np.full(shape, -1, np.int32),
+                RigidMotion(*np.zeros((3, 1, 3))),
+                0.1,
+                ones,
+                np.full(shape, -1, np.int32),
+            ),
+            DiffusionArrays(*arrays, rhs),
+            layer_count(shape),
+            short,
+        )
         built.append((*arrays, rhs))
     for a, b in zip(*built, strict=True):
         np.testing.assert_array_equal(a, b)
@@ -135,9 +164,9 @@ def test_cut_pressure_matrix_and_correction_without_probes_are_the_staircases(di
         for cut in (True, False):
             arrays = (*(np.full(cells, 7.0) for _ in range(4)), np.zeros(cells, dtype=bool))
             if cut:
-                whole = (np.zeros(3, dtype=np.int64), np.array(cells, dtype=np.int64))
+                whole = Window(np.zeros(3, dtype=np.int64), np.array(cells, dtype=np.int64))
                 build_cut_pressure_system(
-                    label, dim, kinds, *opened, *arrays, *whole, layer_count(cells)
+                    label, dim, kinds, tuple(opened), arrays, whole, layer_count(cells)
                 )
             else:
                 build_pressure_system(label, dim, kinds, *arrays)
