@@ -1,24 +1,21 @@
-"""The haptic side of the app: which device, the 1 kHz servo loop (a process or a thread), and
-its live timing.
+"""The haptic side of the app: the device, the 1 kHz servo loop (process or thread), its timing.
 
 ``--device`` chooses the input route:
 
 - ``none``: no haptic device; the tablet or mouse feeds the painting session directly.
-- ``sim``: a :class:`~paintapp.haptics.devices.simulated.SimulatedDevice` whose simulated hand follows
-  the pointer: pen up, the hand hovers 5 mm above the canvas; pen down, it pushes the tip into
-  the paint as deep as the pen's pressure asks. The force the loop writes acts back on the hand.
-- ``hid:VID:PID`` (optionally ``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
+- ``sim``: a :class:`~paintapp.haptics.devices.simulated.SimulatedDevice` whose hand follows the
+  pointer: pen up, it hovers 5 mm above the canvas; pen down, it pushes the tip into the paint as
+  deep as the pen's pressure asks. The force the loop writes acts back on the hand.
+- ``hid:VID:PID`` (``hid:VID:PID:pid`` for a force-feedback joystick): a HID device.
 - ``openhaptics[:NAME]``, ``dhd``, ``haply[:ID]``: a vendor backend
-  (:mod:`~paintapp.haptics.devices.backends`): a 3D Systems Touch or Phantom, a Force Dimension
-  device or Novint Falcon, a Haply Inverse3.
+  (:mod:`~paintapp.haptics.devices.backends`).
 
-With a device the servo loop runs, by default, in a process of its own
-(:class:`~paintapp.haptics.process.ServoProcess`: it owns the device, and shared memory carries
-the force samples, device states, the simulated hand's target and the tick-timing ring), so the
-GUI and the simulation never hold it up. The thread form (``mode="thread"``) runs it on a
-:class:`MeteredClock` (a :class:`~paintapp.haptics.clock.RealTimeClock` that also keeps the last
-ticks' intervals) in this process. Either way the loop publishes the device's pose, and the
-simulation worker turns the latest pose into stylus samples (:func:`sample_from_state`).
+With a device the servo loop runs by default in a process of its own
+(:class:`~paintapp.haptics.process.ServoProcess`: it owns the device; shared memory carries forces,
+device states, the hand's target and tick timings), so the GUI and simulation never hold it up.
+The thread form (``mode="thread"``) runs it here on a :class:`MeteredClock` (a
+:class:`~paintapp.haptics.clock.RealTimeClock` keeping the last ticks' intervals). Either way the
+simulation worker turns the latest published pose into stylus samples (:func:`sample_from_state`).
 """
 
 from __future__ import annotations

@@ -66,22 +66,21 @@ class ProcessOptions:
     """How the servo process runs (picklable: it crosses to the child).
 
     Attributes:
-        device: ``sim`` (the simulated hand follows the shared target), ``sim:stroke`` (it follows
-            its built-in circle), ``hid:VID:PID[:stylus|pid]``, or a vendor backend
-            (``openhaptics[:NAME]``, ``dhd``, ``haply[:ID]``: :mod:`~paintapp.haptics.devices.backends`).
+        device: ``sim`` (the hand follows the shared target), ``sim:stroke`` (its built-in circle),
+            ``hid:VID:PID[:stylus|pid]``, or a vendor backend (``openhaptics[:NAME]``, ``dhd``,
+            ``haply[:ID]``: :mod:`~paintapp.haptics.devices.backends`).
         config: the servo loop's configuration.
         realtime: ask for real-time priority, a pinned core, GC off, locked memory.
         pin: pin to a core (with ``realtime``) when there are several.
         heartbeat_timeout_s: the app is gone after this long without a heartbeat (once armed).
         arm_at_start: the heartbeat watchdog counts from the start; False: from the app's
             :meth:`ServoProcess.arm` (until then only the app's exit ends the child).
-        arm_timeout_s: with ``arm_at_start`` False, the app counts as gone if it has not armed
-            the watchdog this long after the child started.
+        arm_timeout_s: with ``arm_at_start`` False, the app is gone if not armed this long after
+            the child started.
         exit_fade_s: the whole output fades to zero over this time before the child exits.
         duration_s: stop by itself after this long (None: until told or orphaned).
         start_m: where the simulated hand starts (canvas frame, m).
-        spin_s: how long before each deadline the clock stops sleeping and spins; None picks
-            by what the OS granted (:func:`spin_for`).
+        spin_s: the clock spins this long before each deadline (None: by the OS, :func:`spin_for`).
     """
 
     device: str = "sim"

@@ -3,19 +3,17 @@
 Which model runs is the painting scene's choice (:class:`PaintScene.fluid_model`):
 
 - ``grid3d``: a 3D viscous-fluid grid over the footprint (:mod:`paintapp.paint.grid3d`);
-- ``depth_averaged``: a 2D grid in the canvas plane for thin paint
-  (:mod:`paintapp.paint.depth_averaged`);
+- ``depth_averaged``: a 2D grid in the canvas plane for thin paint (:mod:`.depth_averaged`);
 - ``none``: no fluid, the brush stamps and soaks (:mod:`paintapp.paint.stamp`);
 - ``auto``: ``depth_averaged`` or ``grid3d`` by the paint layer's thickness, chosen per sample by
   :class:`~paintapp.paint.selector.ModelSelector` (:mod:`paintapp.paint.choice` states the rules,
   :mod:`paintapp.paint.fit` the grid sizing, :mod:`paintapp.paint.fidelity` the presets).
 
-What they share: the scene files (:mod:`.paint_scene`); following the tip, the canvas window and
-split steps (:mod:`.paint_model`); the grid's columns on the canvas and the column/texel transfer
-(:mod:`.columns`, kernels in :mod:`.columns_kernels`); paint exchange between the brush and the
-cells (:mod:`.exchange`, kernels in :mod:`.cell_kernels`), pushed paint (:mod:`.nearest_room`), the
-bristle texture (:mod:`.bristles`) and the tip's trail (:mod:`.trail`); the 3D grid's open sides
-(:mod:`.far_field`); and the wet paint moved on the texels by the grid's flow (:mod:`.wet_flow`,
-with the flow on texel faces from :mod:`.texel_velocity` and the transport kernels of
-:mod:`.wet_flow_kernels`).
+Shared: the scene files (:mod:`.paint_scene`); following the tip, the canvas window and split steps
+(:mod:`.paint_model`); the grid's columns on the canvas and column/texel transfer (:mod:`.columns`,
+kernels :mod:`.columns_kernels`); brush/cell paint exchange (:mod:`.exchange`, kernels
+:mod:`.cell_kernels`), pushed paint (:mod:`.nearest_room`), the bristle texture (:mod:`.bristles`),
+the tip's trail (:mod:`.trail`); the 3D grid's open sides (:mod:`.far_field`); the wet paint moved
+on the texels by the grid's flow (:mod:`.wet_flow`; flow on texel faces :mod:`.texel_velocity`,
+transport kernels :mod:`.wet_flow_kernels`).
 """

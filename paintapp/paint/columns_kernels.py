@@ -677,24 +677,19 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     """Lay a step's change of mobile paint along the path the tip swept, in place.
 
     The step changed each texel's mobile paint ``m`` to ``new_mobile`` with the tip at its end
-    pose; during the step the tip came from ``(dx, dy)`` texels back. Per pigment, the gains
-    ``g = max(new - m, 0)`` are laid as their mean moved back along that path,
-    ``g_s(x) = mean over s in (0, 1) of g(x + s d)`` (bilinear, a sample every ``spacing``
-    texels of travel or closer, at most :data:`MAX_SWEEP_SAMPLES` (a stalled session's long
-    catch-up step): every value moves whole, so the total is kept when the box
-    reaches ``|d|`` texels behind the change); the losses ``l = max(m - new, 0)`` the same way,
-    ``l_s``, each texel's take capped at ``c = f_max m``: its own paint times the largest
-    *fraction* ``f = l / m`` lost along its path (the max of the same samples), and scaled so
-    that the total loss is kept (water-filling: a texel the scaling would take past its cap gives
-    its cap, the rest scaled again). A texel thus never loses more than it holds, nor a larger
-    share of it than a texel on its path lost, and only paint that was there is taken. (The mean
-    of the fractions instead, times the texel's own paint, is not linear in the change: the
-    sweep then left a step's teeth in part, at the period of a sub-step and of a sample; the
-    amounts alone, uncapped, emptied texels whose path lost more than they held, and left
-    holes.) A pigment whose swept totals miss by more than round-off (the box cut short at the
-    canvas's edge), or whose caps cannot take its loss, keeps its unswept change. ``touched``
-    and ``total`` (as :func:`spread_to_texels` fills them) are updated. Returns whether anything
-    was swept."""
+    pose; during the step it came from ``(dx, dy)`` texels back. Per pigment, the gains
+    ``g = max(new - m, 0)`` are laid as their mean along that path,
+    ``g_s(x) = mean over s in (0, 1) of g(x + s d)`` (bilinear, a sample every ``spacing`` texels
+    or closer, at most :data:`MAX_SWEEP_SAMPLES` for a stalled session's catch-up step; every value
+    moves whole, so the total is kept when the box reaches ``|d|`` behind the change). The losses
+    ``l = max(m - new, 0)`` go the same way, each texel's take capped at ``c = f_max m`` (its own
+    paint times the largest *fraction* ``f = l / m`` lost along its path) and scaled, water-filling
+    against the caps, so the total loss is kept: a texel never loses more than it holds, nor a
+    larger share than a texel on its path lost. (The mean fraction times the texel's paint is not
+    linear in the change and left a step's teeth; uncapped amounts emptied texels, leaving holes.)
+    A pigment whose swept totals miss by more than round-off (the box cut short at the canvas's
+    edge), or whose caps cannot take its loss, keeps its unswept change. ``touched`` and ``total``
+    (as :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept."""
     n_p, ny, nx = new_mobile.shape
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:

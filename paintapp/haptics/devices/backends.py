@@ -76,7 +76,7 @@ def _service_line() -> str:
     if importlib.util.find_spec("websockets") is None:
         return (
             f"{tag}Haply Inverse3 not available: the websockets package is missing "
-            "(pip install 'paintapp[haply]')"
+            "(pip install websockets, the haptic-fluid-paint[haply] extra)"
         )
     uri = service_uri()
     parts = urlsplit(uri)

@@ -2,30 +2,20 @@
 Dimension's DHD library (``libdhd``), as a :class:`~paintapp.haptics.device.HapticDevice`; bound
 here with :mod:`ctypes` when opened.
 
-There is no vendor scheduler: the servo loop's own tick calls the library, ``dhdGetPosition``
-(plus ``dhdGetOrientationFrame`` on devices with a wrist and ``dhdGetButtonMask``) in
+No vendor scheduler: the servo loop's tick calls ``dhdGetPosition`` and friends in
 :meth:`~ForceDimensionDevice.read` and ``dhdSetForceAndTorque`` in
-:meth:`~ForceDimensionDevice.write`. A call returning -1 raises
-:class:`~paintapp.haptics.device.DeviceError` with ``dhdErrorGetLastStr()``, which stops the loop
-with zero force; ``DHD_TIMEGUARD`` (1) is not an error.
+:meth:`~ForceDimensionDevice.write`; a call returning -1 raises
+:class:`~paintapp.haptics.device.DeviceError`, stopping the loop with zero force.
 
-Safety on the device's side: at open the force limit is handed to the library
-(``dhdSetMaxForce``, where the library has it) and the controller's watchdog is set
-(``dhdSetWatchdog``, counted in 125 us steps; :data:`WATCHDOG_S`) so the device goes limp when no
-call arrives in that time (our process stalled or was killed). The brakes come off and forces
-on only at the first write, so the time between opening and the servo loop's first tick cannot
-trip the watchdog. Close writes zero force, disables forces, puts the brakes on and closes.
+Frame and units: the DHD frame is x toward the user, y right, z up (origin at the workspace
+centre); ours (:mod:`paintapp.haptics.device`) is x right, y away from the user, z up; both m, N,
+N m. So ours = (y, -x, z) for positions, forces, torques and orientation (a quarter turn about z).
 
-Frame and units. The DHD frame is right-handed with its origin at the workspace centre: x toward
-the user, y to the user's right, z up; metres, newtons, newton-metres. Ours
-(:mod:`paintapp.haptics.device`): x right, y away from the user, z up. So ours = (y, -x, z) for
-positions, forces and torques (a quarter turn about z), and the orientation frame is turned the
-same way. The canvas plane is at the workspace centre's height plus ``ContactConfig.height_m``.
+Safety: the force limit (per model) goes to the library, and the controller's watchdog
+(:data:`WATCHDOG_S`) lets the device go limp if our calls stop; brakes come off and forces on only
+at the first write, so opening cannot trip it. Close writes zero force and puts the brakes on.
 
-Limits: the device's continuous force by model (:data:`NOMINAL_FORCE_N`, from Force Dimension's
-data sheets), lowered to the library's own limit when one is set; torque only on devices with an
-active wrist (:data:`NOMINAL_TORQUE_NM`); wall stiffness and damping by model
-(:data:`STIFFNESS_N_PER_M`), as the DHD reports none.
+Setup: docs/guide/devices-vendor.md.
 """
 
 from __future__ import annotations

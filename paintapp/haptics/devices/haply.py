@@ -1,32 +1,23 @@
 """The Haply Inverse3 (and its VerseGrip handle) through the Haply Inverse Service's WebSocket
 simulation channel, as a :class:`~paintapp.haptics.device.HapticDevice`. Needs the optional
-``websockets`` package (``pip install 'paintapp[haply]'``), imported only when opened.
+``websockets`` package (the ``haply`` extra: ``pip install websockets``), imported only when
+opened.
 
-The protocol: on connect the service sends a full inventory (``inverse3``, ``verse_grip`` /
-``wireless_verse_grip`` lists, each device with ``device_id``, ``config``, ``state`` and
-``status``); after that it answers every message the client sends with exactly one state update.
-So each servo tick :meth:`~HaplyDevice.write` sends one ``set_cursor_force`` command and the next
-tick's :meth:`~HaplyDevice.read` takes the update that answers it (it has arrived while the loop
-slept); a read with nothing outstanding sends a ``probe_position`` first. The first message also
-registers the session's profile and sets the identity basis (``XYZ``), so the axes are Haply's
-own whatever an earlier session chose. ``set_cursor_force`` is not persistent: if our messages
-stop, the service returns the device to idle (no force).
+The service answers every message with one state update, so each tick's
+:meth:`~HaplyDevice.write` sends one ``set_cursor_force`` and the next :meth:`~HaplyDevice.read`
+takes its answer (it arrived while the loop slept). A late answer never holds up a tick: the read
+waits :data:`TICK_WAIT_S` for it, then goes on with the last state, and no new force is sent until
+it has come (one answer per command; counted in ``late_answers``).
 
-Failures, each a :class:`~paintapp.haptics.device.DeviceError` that stops the loop with zero
-force: no update within ``reply_timeout_s``, the connection closed (the service stopped
-mid-stroke), the Inverse3 gone from an update (unplugged) or its status saying it is not ready
-or in error, and malformed or non-finite state.
+Frame and units: Haply's frame (basis set to ``XYZ`` at connection) is ours
+(:mod:`paintapp.haptics.device`): x right, y away from the user, z up; m, N, a unit quaternion.
+Only the origin moves: ours = device - ``centre_m`` (:data:`INVERSE3_CENTRE_M`, mid-reach).
 
-Frame and units. Haply's frame is right-handed: x to the right, y forward (away from the user),
-z up; metres, newtons, and the VerseGrip's orientation as a unit quaternion. Those are our axes
-(:mod:`paintapp.haptics.device`), so only the origin moves: ours = device - ``centre_m``, where
-:data:`INVERSE3_CENTRE_M` is about the middle of reach with the service's default preset. The
-canvas plane is at that height plus ``ContactConfig.height_m``. Buttons: bit 0 ``a`` (or the
-wired grip's ``button``), bit 1 ``b``.
+Safety: ``set_cursor_force`` lasts one message, so the device idles if ours stop; no update within
+``reply_timeout_s``, a closed connection, a missing or not-ready Inverse3 or malformed state raise
+:class:`~paintapp.haptics.device.DeviceError`, stopping the loop with zero force.
 
-Limits: the service reports no force limit, so :data:`INVERSE3_INFO`'s values (Haply's data
-sheet: 3.3 N continuous, a workspace about 40 cm across) are used, and the service's own safety
-(its force gate and monitoring) stays on beside ours.
+Setup: docs/guide/devices-vendor.md.
 """
 
 from __future__ import annotations
@@ -62,6 +53,8 @@ INVERSE3_INFO = DeviceInfo(
     workspace_m=(0.4, 0.3, 0.3),
 )
 PROFILE = "org.paintapp:haptic-painting"
+#: How long a servo tick waits for the service's answer before it goes on with the last state.
+TICK_WAIT_S = 2e-4
 GRIP_LISTS = ("wireless_verse_grip", "verse_grip")
 
 
@@ -98,6 +91,9 @@ class HaplyDevice:
         reply_timeout_s: longest wait for a state update.
         connect_timeout_s: longest wait to connect and receive the inventory.
         centre_m: our origin in Haply's frame, m.
+        tick_wait_s: how long a tick waits for a late answer before it goes on with the last
+            state (:data:`TICK_WAIT_S`); None: wait for every answer, in lockstep (for a servo
+            loop on a virtual clock, whose ticks do not wait for real time).
     """
 
     def __init__(
@@ -108,19 +104,24 @@ class HaplyDevice:
         reply_timeout_s: float = 0.05,
         connect_timeout_s: float = 2.0,
         centre_m: tuple[float, float, float] = INVERSE3_CENTRE_M,
+        tick_wait_s: float | None = TICK_WAIT_S,
     ) -> None:
         self.time_source = time_source
         self.uri = service_uri(uri)
         self.device_id = device_id
         self.reply_timeout_s = float(reply_timeout_s)
         self.connect_timeout_s = float(connect_timeout_s)
+        self.tick_wait_s = tick_wait_s
         self.centre_m = tuple(float(c) for c in centre_m)
         self._ws: Any = None
         self._info: DeviceInfo | None = None
         self._grip_id: str | None = None
         self._pending = False
+        self._sent_at = 0.0
         self._first = True
         self._state: DeviceState | None = None
+        #: ticks whose force was not sent because the last command was still unanswered
+        self.late_answers = 0
 
     @property
     def info(self) -> DeviceInfo:
@@ -137,7 +138,8 @@ class HaplyDevice:
             from websockets.sync.client import connect
         except ImportError as exc:
             raise DeviceNotFoundError(
-                "the Haply backend needs the websockets package: pip install 'paintapp[haply]'"
+                "the Haply backend needs the websockets package: pip install websockets "
+                "(the haptic-fluid-paint[haply] extra)"
             ) from exc
         try:
             conn = connect(
@@ -206,6 +208,7 @@ class HaplyDevice:
         except Exception as exc:
             raise DeviceError(f"{self.name}: the Inverse Service connection failed: {exc}") from exc
         self._pending = True
+        self._sent_at = time.monotonic()
 
     def _receive(self, timeout_s: float) -> dict[str, Any]:
         try:
@@ -219,6 +222,9 @@ class HaplyDevice:
                 f"{self.name}: the Inverse Service closed the connection ({exc})"
             ) from exc
         self._pending = False
+        return self._decode(raw)
+
+    def _decode(self, raw: str | bytes) -> dict[str, Any]:
         try:
             message = json.loads(raw)
         except (TypeError, ValueError) as exc:
@@ -275,22 +281,51 @@ class HaplyDevice:
         return None
 
     def read(self) -> DeviceState:
+        """The latest state: the service's answer to the last command if it has come within
+        :data:`TICK_WAIT_S`, else the state before it (the servo tick is not held up by a late
+        answer); :class:`DeviceError` once no answer has come for ``reply_timeout_s``."""
         if self._ws is None:
             raise DeviceError(f"{self.name} is not open")
         if not self._pending:
             self._send(
                 {"inverse3": [{"device_id": self.device_id, "commands": {"probe_position": {}}}]}
             )
-        self._state = self._parse(self._receive(self.reply_timeout_s))
+        self._take_answer()
+        assert self._state is not None
         return self._state
 
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:
+        """Command ``force_n`` (limited, finite) unless the last command is still unanswered:
+        the channel stays one answer per command, and the service keeps the last force until
+        the answer comes (or the connection is given up after ``reply_timeout_s``)."""
         if self._ws is None:
             raise DeviceError(f"{self.name} is not open")
-        if self._pending:  # the last answer was never read: take it now, keep the channel 1:1
-            self._parse(self._receive(self.reply_timeout_s))
+        if self._pending:
+            self._take_answer()
+        if self._pending:
+            self.late_answers += 1
+            return
         f = limited([float(v) for v in force_n], self.info.max_force_n)
         self._send(force_command(str(self.device_id), f))
+
+    def _take_answer(self) -> None:
+        """Parse the answer to the outstanding command if it comes within :data:`TICK_WAIT_S`;
+        raise :class:`DeviceError` when none has come for ``reply_timeout_s`` (or there is no
+        state at all yet)."""
+        waited = time.monotonic() - self._sent_at
+        if self._state is None or self.tick_wait_s is None or waited >= self.reply_timeout_s:
+            self._state = self._parse(self._receive(max(self.reply_timeout_s - waited, 1e-4)))
+            return
+        try:
+            raw = self._ws.recv(timeout=self.tick_wait_s)
+        except TimeoutError:
+            return
+        except Exception as exc:  # ConnectionClosed and kin
+            raise DeviceError(
+                f"{self.name}: the Inverse Service closed the connection ({exc})"
+            ) from exc
+        self._pending = False
+        self._state = self._parse(self._decode(raw))
 
     def close(self) -> None:
         if self._ws is None:

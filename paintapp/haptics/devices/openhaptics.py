@@ -1,33 +1,20 @@
 """3D Systems Touch, Touch X and Phantom devices through the OpenHaptics HD API (``libHD``), as a
 :class:`~paintapp.haptics.device.HapticDevice`; bound with :mod:`ctypes` when opened.
 
-The HD API wants device calls made inside its scheduler's 1 kHz callback, between
-``hdBeginFrame`` and ``hdEndFrame``: forces only reach the motors while the scheduler runs. So
-:meth:`OpenHapticsDevice.open` schedules one asynchronous callback at the highest priority that,
-every scheduler tick, reads the stylus (``HD_CURRENT_POSITION``, ``HD_CURRENT_TRANSFORM``,
-``HD_CURRENT_BUTTONS``) into a buffer and writes the latest commanded force
-(``HD_CURRENT_FORCE``, and ``HD_CURRENT_TORQUE`` on 6-DOF-output models). The servo loop's
-:meth:`~OpenHapticsDevice.read` and :meth:`~OpenHapticsDevice.write` only exchange those buffers
-under a lock. A force not refreshed by the servo loop for :data:`HOLD_FRAMES` scheduler ticks is
-dropped to zero (the servo loop stalled); an HD error after a frame stops the callback with zero
-force, and the next read raises :class:`~paintapp.haptics.device.DeviceError` with the error's
-text.
+Forces reach the motors only while the HD scheduler runs, so :meth:`OpenHapticsDevice.open`
+schedules one 1 kHz callback that reads the stylus into a buffer and writes the latest commanded
+force; :meth:`~OpenHapticsDevice.read` and :meth:`~OpenHapticsDevice.write` only swap buffers.
 
-The device's own safety stays on beside ours: force output, maximum-force clamping, force
-ramping, and the software force-impulse and velocity limits are enabled at open.
+Frame and units: the HD frame is x right, y up, z toward the user, in mm, N and mN m; ours
+(:mod:`paintapp.haptics.device`) is x right, y away from the user, z up, in m, N and N m. So ours
+= (x, -z, y) / 1000 for positions, (x, -z, y) for forces, torques the same axes over 1000, and
+the orientation turned likewise. Limits (force, stiffness, workspace, torque) come from the device.
 
-Frame and units. The HD frame is right-handed with its origin near the workspace centre: x to
-the user's right, y up, z toward the user; positions in millimetres, forces in newtons, torques
-in millinewton-metres. Ours (:mod:`paintapp.haptics.device`): metres, x right, y away from the
-user, z up. So ours = (x, -z, y) / 1000 for positions, (x, -z, y) for forces, and torques the
-same axes over 1000; orientation is the transform's rotation turned into our axes. The canvas
-plane is at the device origin's height plus ``ContactConfig.height_m``; ``centre_m`` shifts the
-origin if a desk needs it.
+Safety: the device's own force clamping, ramping and software limits are enabled at open; a force
+not refreshed for :data:`HOLD_FRAMES` ticks drops to zero; an HD error stops the callback with zero
+force and the next read raises :class:`~paintapp.haptics.device.DeviceError`.
 
-Limits come from the device: the nominal continuous force (``HD_NOMINAL_MAX_CONTINUOUS_FORCE``),
-stiffness and damping (N/mm and N s/mm, converted), the usable workspace, the input and output
-degrees of freedom, and on 6-DOF models ``HD_NOMINAL_MAX_TORQUE_CONTINUOUS_FORCE`` (mN m).
-Velocity is not read: the servo loop estimates it for every device alike.
+Setup: docs/guide/devices-vendor.md.
 """
 
 from __future__ import annotations

@@ -27,6 +27,8 @@ HD_RECORD = (
     "running",
     "initialised",
     "frames_outside_scheduler",
+    "timeout_s",
+    "timeouts",
 )
 DHD_RECORD = (
     "writes",
@@ -77,9 +79,11 @@ def record(lib: ctypes.CDLL, fields: tuple[str, ...], fn: str) -> dict[str, floa
 def fake_hd(
     fake_lib_dir: dict[str, Path], monkeypatch: pytest.MonkeyPatch
 ) -> Iterator[ctypes.CDLL]:
-    """The fake libHD, reset, its scheduler stepped by the test (``fakeHdRunScheduler``)."""
+    """The fake libHD, reset (device state in this process's memory), its scheduler stepped by
+    the test (``fakeHdRunScheduler``)."""
     path = fake_lib_dir["fake_hd"]
     monkeypatch.setenv("PAINTAPP_LIBHD", str(path))
+    monkeypatch.delenv("PAINTAPP_FAKE_HD_STATE", raising=False)
     lib = ctypes.CDLL(str(path))
     lib.fakeHdReset()
     lib.fakeHdSetManual(1)

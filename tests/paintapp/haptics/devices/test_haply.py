@@ -1,13 +1,19 @@
 """The Haply backend against a fake Inverse Service (``fakes/inverse_service.py``): the
 simulation channel's messages (inventory, one update per message, ``set_cursor_force``), the
-service closing mid-stroke, the device unplugged, with the servo loop on a virtual clock."""
+service closing mid-stroke, the device unplugged, with the servo loop on a virtual clock; and the
+service idling the device after the client's process is killed (SIGKILL)."""
 
 from __future__ import annotations
 
 import math
+import os
+import signal
 import socket
+import subprocess
 import sys
+import textwrap
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,16 +26,45 @@ from paintapp.haptics.devices import haply
 from paintapp.haptics.servo import ServoLoop
 from tests.paintapp.haptics.devices.fakes.inverse_service import (
     ARM_ID,
+    CHECK_INTERVAL_S,
     FakeInverseService,
 )
+
+REPO = Path(__file__).resolve().parents[4]
 
 
 def run_loop(service: FakeInverseService, ticks: int) -> ServoLoop:
     clock = VirtualClock()
-    loop = ServoLoop(haply.HaplyDevice(clock.now_s, uri=service.uri))
+    # on a virtual clock the ticks do not wait for real time: the device answers in lockstep
+    loop = ServoLoop(haply.HaplyDevice(clock.now_s, uri=service.uri, tick_wait_s=None))
     loop.open()
     clock.run(lambda i, t: loop.tick(t), ticks)
     return loop
+
+
+def test_a_late_answer_does_not_hold_up_the_tick_and_a_silent_service_stops_the_loop() -> None:
+    with FakeInverseService(mute_after=3, lifetime_s=30) as service:
+        device = haply.HaplyDevice(uri=service.uri, reply_timeout_s=0.2, tick_wait_s=1e-3)
+        device.open()
+        push = np.array([0.0, 0.0, 1.0])
+        for _ in range(3):  # answered: the service reads a probe and two forces
+            state = device.read()
+            device.write(push, np.zeros(3))
+        sent = service.record.forces
+        begin = time.monotonic()
+        stale = 0
+        with pytest.raises(DeviceError, match="no state update"):
+            while time.monotonic() - begin < 10.0:
+                again = device.read()
+                device.write(push, np.zeros(3))
+                assert np.array_equal(again.position_m, state.position_m)
+                stale += 1
+        elapsed = time.monotonic() - begin
+        assert stale > 1  # ticks went on with the last state, not held up until the timeout
+        assert device.late_answers >= stale - 1
+        assert service.record.forces <= sent + 1  # no new force while unanswered
+        assert elapsed >= 0.15  # given up only after reply_timeout_s of silence
+        device.close()
 
 
 def closed_port() -> int:
@@ -136,7 +171,7 @@ def test_no_inverse3_listed_is_a_clear_message(monkeypatch) -> None:
 
 def test_without_websockets_the_message_says_what_to_install(monkeypatch) -> None:
     monkeypatch.setitem(sys.modules, "websockets.sync.client", None)
-    with pytest.raises(DeviceNotFoundError, match=r"pip install 'paintapp\[haply\]'"):
+    with pytest.raises(DeviceNotFoundError, match=r"pip install websockets"):
         haply.HaplyDevice(uri="ws://127.0.0.1:1").open()
 
 
@@ -155,3 +190,61 @@ def test_real_clock_run_through_the_service() -> None:
         loop.close()
         assert service.record.nonfinite == 0 and service.record.over_limit == 0
         assert service.record.last_force == [0.0, 0.0, 0.0]
+
+
+CHILD = textwrap.dedent(
+    """
+    import sys, time
+    import numpy as np
+    from paintapp.haptics.devices.haply import HaplyDevice
+    # generous timeouts: a busy machine must not end the stroke before the kill
+    device = HaplyDevice(uri=sys.argv[1], reply_timeout_s=5.0, connect_timeout_s=10.0)
+    device.open()
+    end = time.monotonic() + 30.0  # bounded even if nobody kills it
+    i = 0
+    while time.monotonic() < end:
+        device.read()
+        device.write(np.array([0.0, 0.0, 1.5]), np.zeros(3))
+        i += 1
+        if i == 200:
+            print("running", flush=True)
+        time.sleep(0.001)
+    """
+)
+
+
+def test_the_service_zeroes_the_force_after_the_client_is_killed() -> None:
+    """The client's process is SIGKILLed mid-stroke: its connection drops, and the service
+    commands zero force to the Inverse3 within its check interval of seeing the loss."""
+    push = [0.0, 0.0, 1.5]
+    with FakeInverseService(lifetime_s=60) as service:
+        env = dict(os.environ, PYTHONPATH=str(REPO))
+        child = subprocess.Popen(
+            [sys.executable, "-c", CHILD, service.uri], env=env, stdout=subprocess.PIPE, text=True
+        )
+        try:
+            assert child.stdout is not None
+            assert child.stdout.readline().strip() == "running"
+            rec = service.record
+            # pushing while alive (polled: a stalled client has the service idle the arm a while)
+            deadline = time.monotonic() + 10.0
+            while rec.device_force != push and time.monotonic() < deadline:
+                time.sleep(0.001)
+            assert rec.device_force == push and rec.connection_lost_s is None
+            killed_s = time.monotonic()
+            child.send_signal(signal.SIGKILL)
+            child.wait(10)
+            deadline = time.monotonic() + 10.0
+            while (rec.connection_lost_s is None or any(rec.device_force)) and (
+                time.monotonic() < deadline
+            ):
+                time.sleep(CHECK_INTERVAL_S / 10)
+            assert rec.device_force == [0.0, 0.0, 0.0]
+            assert rec.last_force == push  # the client's last word was a push: the zero is ours
+            assert rec.connection_lost_s is not None and rec.connection_lost_s >= killed_s
+            assert rec.zeroed_after_loss_s is not None
+            assert 0.0 <= rec.zeroed_after_loss_s - rec.connection_lost_s <= CHECK_INTERVAL_S
+        finally:
+            if child.poll() is None:
+                child.kill()
+                child.wait(10)

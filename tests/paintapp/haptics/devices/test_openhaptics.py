@@ -1,12 +1,20 @@
 """The OpenHaptics backend against a fake libHD (``fakes/fake_hd.c``): the HD API's rules (frames,
 the scheduler, queued errors, millimetres and the HD frame) at the ctypes boundary, with the
-servo loop on a virtual clock (the test steps the HD scheduler each tick)."""
+servo loop on a virtual clock (the test steps the HD scheduler each tick); and the device's own
+timeout after the process driving it is killed (SIGKILL)."""
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,9 +25,19 @@ from paintapp.haptics.devices import openhaptics as oh
 from paintapp.haptics.servo import ServoLoop
 from tests.paintapp.haptics.devices.conftest import HD_RECORD, record
 
+REPO = Path(__file__).resolve().parents[4]
+
 
 def hd_record(lib: ctypes.CDLL) -> dict[str, float]:
     return record(lib, HD_RECORD, "fakeHdRecord")
+
+
+def output(lib: ctypes.CDLL) -> tuple[np.ndarray, float]:
+    """What the fake device's motors give now (HD frame, N; its timeout applied) and the seconds
+    since the last servo frame ended."""
+    buf = (ctypes.c_double * 4)()
+    lib.fakeHdOutput(buf)
+    return np.array(buf[:3]), float(buf[3])
 
 
 def run_loop(lib: ctypes.CDLL, ticks: int, on_tick=None) -> tuple[ServoLoop, VirtualClock]:
@@ -202,3 +220,75 @@ def test_before_the_first_frame_the_pose_is_upright(fake_hd) -> None:
         np.testing.assert_allclose(q, [np.cos(0.15), np.sin(0.15), 0.0, 0.0], atol=1e-12)
     finally:
         device.close()
+
+
+CHILD = textwrap.dedent(
+    """
+    import time
+    import numpy as np
+    from paintapp.haptics.devices.openhaptics import OpenHapticsDevice
+    device = OpenHapticsDevice()
+    device.open()  # the HD scheduler's own thread runs the servo frames
+    end = time.monotonic() + 30.0  # bounded even if nobody kills it
+    i = 0
+    while time.monotonic() < end:
+        device.read()
+        device.write(np.array([0.0, 0.0, 0.5]), np.zeros(3))
+        i += 1
+        if i == 200:
+            print("running", flush=True)
+        time.sleep(0.001)
+    """
+)
+
+
+def test_the_device_drops_the_force_after_the_process_is_killed(fake_lib_dir, tmp_path) -> None:
+    """The process driving the device is SIGKILLed mid-stroke: its HD scheduler dies with it, and
+    the device (the fake's state in a shared file, its timeout applied from outside the dead
+    process) gives zero force once its timeout has passed since the last servo frame."""
+    state = tmp_path / "device.state"
+    env = dict(
+        os.environ,
+        PAINTAPP_LIBHD=str(fake_lib_dir["fake_hd"]),
+        PAINTAPP_FAKE_HD_STATE=str(state),
+        PYTHONPATH=str(REPO),
+    )
+    env.pop("PAINTAPP_FAKE_HD_MANUAL", None)  # the scheduler's own thread, on the real clock
+    env.pop("PAINTAPP_FAKE_HD_NO_DEVICE", None)
+    observer_path = tmp_path / "observer.so"  # a second copy: its own globals, same device file
+    shutil.copy(fake_lib_dir["fake_hd"], observer_path)
+    observer = ctypes.CDLL(str(observer_path))
+    child = subprocess.Popen(
+        [sys.executable, "-c", CHILD], env=env, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert child.stdout is not None
+        assert child.stdout.readline().strip() == "running"
+        observer.fakeHdMapPath(str(state).encode())
+        # pressing while alive (polled: a busy machine may stall the servo frames a while)
+        deadline = time.monotonic() + 10.0
+        force, _ = output(observer)
+        while force[1] != pytest.approx(0.5) and time.monotonic() < deadline:
+            time.sleep(0.001)
+            force, _ = output(observer)
+        assert force[1] == pytest.approx(0.5)  # our z is HD y
+        child.send_signal(signal.SIGKILL)
+        child.wait(10)
+        rec = hd_record(observer)
+        # no close, no zero frame: the process died with its scheduler running, a force commanded
+        assert rec["initialised"] == 1 and rec["running"] == 1
+        assert rec["out_y"] == pytest.approx(0.5)
+        timeout_s = rec["timeout_s"]
+        assert 0.0 < timeout_s <= 0.1
+        deadline = time.monotonic() + 10.0
+        while np.any(output(observer)[0] != 0.0) and time.monotonic() < deadline:
+            time.sleep(timeout_s / 4)
+        force, since_last_frame_s = output(observer)
+        assert np.all(force == 0.0)
+        assert since_last_frame_s > timeout_s  # zero exactly by the device's rule
+        rec = hd_record(observer)
+        assert rec["timeouts"] >= 1 and rec["out_y"] == pytest.approx(0.5)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait(10)

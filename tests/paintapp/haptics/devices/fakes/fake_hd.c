@@ -8,12 +8,24 @@
  *
  * Test-only entry points (fakeHd*): a manual scheduler (the test runs the callbacks, on a
  * virtual clock), error injection, and a record of everything written.
+ *
+ * The device's own safety is modelled as the hardware has it: outside the application. A Touch
+ * or Phantom drives its motors only while the host's servo loop keeps sending frames; when the
+ * frames stop (the HD scheduler dies with its process) the amplifiers are disabled. The "device"
+ * state (the output, the time the last frame ended, the device's timeout) lives in a file mapped
+ * shared (PAINTAPP_FAKE_HD_STATE; private memory without it), and fakeHdOutput() gives what the
+ * motors give now: the last frame's output while it is at most the timeout old, zero after. Any
+ * process mapping the same file (fakeHdMapPath) sees the same rule applied, so it holds after
+ * the application is killed.
  */
+#include <fcntl.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <time.h>
+#include <unistd.h>
 
 typedef unsigned int HHD;
 typedef unsigned int HDenum;
@@ -28,8 +40,22 @@ typedef struct { HDerror errorCode; int internalErrorCode; HHD hHD; } HDErrorInf
 #define RAMP_FRAMES 50
 #define MAX_TASKS 8
 #define MAX_ERRORS 16
+/* the amplifiers are disabled this long after the last servo frame (ten 1 kHz frames) */
+#define DEVICE_TIMEOUT_S 0.010
 
-static int g_init = 0, g_in_frame = 0, g_running = 0, g_manual = 0, g_output_dof = 3;
+/* what the device itself holds: the output of the last frame (HD frame, N), when that frame
+ * ended (CLOCK_MONOTONIC, s), its timeout, frames run, timeouts seen, initialised, scheduler on */
+typedef struct {
+    double out[3];
+    double last_frame_s, timeout_s;
+    long frames, timeouts;
+    int init, running, timed_out;
+} Device;
+
+static Device g_private;
+static Device *g = &g_private;
+
+static int g_in_frame = 0, g_manual = 0, g_output_dof = 3;
 static unsigned int g_caps = 0;            /* bit i: capability 0x4000 + i or 0x2606/0x2607 */
 static HDerror g_errors[MAX_ERRORS];
 static int g_nerr = 0;
@@ -43,10 +69,39 @@ static int g_no_device = 0;
 
 /* the stylus: position m and velocity m/s in the HD frame */
 static double g_x[3], g_v[3];
-static double g_cmd[3], g_out[3], g_cmd_t[3];
-static long g_frames = 0, g_writes = 0, g_nonfinite = 0, g_over = 0, g_ramp = 0;
+static double g_cmd[3], g_cmd_t[3];
+static long g_writes = 0, g_nonfinite = 0, g_over = 0, g_ramp = 0;
 static double g_max_out = 0.0;
 static long g_frames_outside = 0;
+
+static double now_s(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void map_path(const char *path) {
+    int fd = open(path, O_RDWR | O_CREAT, 0600);
+    if (fd < 0) return;
+    if (ftruncate(fd, sizeof(Device)) == 0) {
+        void *p = mmap(NULL, sizeof(Device), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+        if (p != MAP_FAILED) g = (Device *)p;
+    }
+    close(fd);
+}
+
+static void map_state(void) {
+    const char *path = getenv("PAINTAPP_FAKE_HD_STATE");
+    if (path && g == &g_private) map_path(path);
+}
+
+/* The device's rule: the motors give the last frame's output while the device is initialised
+ * and that frame ended at most the timeout ago; otherwise zero (and a timeout is recorded). */
+static void device_output(double *out) {
+    int live = g->init && g->last_frame_s > 0.0 && now_s() - g->last_frame_s <= g->timeout_s;
+    if (!live && g->init && g->last_frame_s > 0.0 && !g->timed_out) { g->timed_out = 1; g->timeouts++; }
+    for (int i = 0; i < 3; i++) out[i] = live ? g->out[i] : 0.0;
+}
 
 static void push_error(HDerror code) {
     if (g_nerr < MAX_ERRORS) g_errors[g_nerr++] = code;
@@ -84,14 +139,14 @@ static void target(double t, double *p, double *v) {
 static void reset_hand(void) {
     double p[3], v[3];
     target(0.0, p, v);
-    for (int i = 0; i < 3; i++) { g_x[i] = p[i]; g_v[i] = 0.0; g_cmd[i] = g_out[i] = g_cmd_t[i] = 0.0; }
+    for (int i = 0; i < 3; i++) { g_x[i] = p[i]; g_v[i] = 0.0; g_cmd[i] = g->out[i] = g_cmd_t[i] = 0.0; }
 }
 
 static void advance_hand(void) {
     double p[3], v[3], h = 1e-3, k = 300.0, c = 3.0, m = 0.25;
-    target(g_frames * 1e-3, p, v);
+    target(g->frames * 1e-3, p, v);
     for (int i = 0; i < 3; i++) {
-        g_v[i] += h * (k * (p[i] - g_x[i]) + c * (v[i] - g_v[i]) + g_out[i]) / m;
+        g_v[i] += h * (k * (p[i] - g_x[i]) + c * (v[i] - g_v[i]) + g->out[i]) / m;
         g_x[i] += h * g_v[i];
     }
 }
@@ -99,16 +154,21 @@ static void advance_hand(void) {
 HHD hdInitDevice(const char *name) {
     (void)name;
     if (g_no_device || getenv("PAINTAPP_FAKE_HD_NO_DEVICE")) { push_error(0x0302); return 0xFFFFFFFFu; }
-    if (g_init) { push_error(0x0301); return 0xFFFFFFFFu; }
-    g_init = 1; g_caps = 0; g_frames = 0; g_ramp = 0;
+    map_state();
+    if (g->init) { push_error(0x0301); return 0xFFFFFFFFu; }
+    /* a fresh device; a scheduler this process already runs keeps running (a shared file left
+     * by a dead process holds no scheduler of ours) */
+    int running = g == &g_private ? g->running : 0;
+    memset(g, 0, sizeof *g);
+    g->init = 1; g->running = running; g->timeout_s = DEVICE_TIMEOUT_S; g_caps = 0; g_ramp = 0;
     reset_hand();
     return 1;
 }
 
 void hdDisableDevice(HHD h) {
     (void)h;
-    for (int i = 0; i < 3; i++) g_out[i] = g_cmd[i] = 0.0;
-    g_init = 0; g_caps = 0;
+    for (int i = 0; i < 3; i++) g->out[i] = g_cmd[i] = 0.0;
+    g->init = 0; g_caps = 0;
 }
 
 void hdMakeCurrentDevice(HHD h) { if (h != 1) push_error(0x0104); }
@@ -138,12 +198,12 @@ void hdEnable(HDenum cap) { int b = cap_bit(cap); if (b < 0) push_error(0x0100);
 void hdDisable(HDenum cap) { int b = cap_bit(cap); if (b < 0) push_error(0x0100); else g_caps &= ~(1u << b); }
 
 void hdBeginFrame(HHD h) {
-    if (h != 1 || !g_init) { push_error(0x0104); return; }
+    if (h != 1 || !g->init) { push_error(0x0104); return; }
     if (g_in_frame) { push_error(0x0400); return; }
-    if (!g_running) g_frames_outside++;
+    if (!g->running) g_frames_outside++;
     g_in_frame = 1;
     advance_hand();
-    g_frames++;
+    g->frames++;
 }
 
 void hdEndFrame(HHD h) {
@@ -153,12 +213,13 @@ void hdEndFrame(HHD h) {
     if (enabled(0x4002)) { g_ramp++; gain = g_ramp >= RAMP_FRAMES ? 1.0 : (double)g_ramp / RAMP_FRAMES; }
     double n = 0.0;
     for (int i = 0; i < 3; i++) {
-        g_out[i] = enabled(0x4000) ? gain * g_cmd[i] : 0.0;
-        n += g_out[i] * g_out[i];
+        g->out[i] = enabled(0x4000) ? gain * g_cmd[i] : 0.0;
+        n += g->out[i] * g->out[i];
     }
     n = sqrt(n);
     if (n > g_max_out) g_max_out = n;
-    if (g_inject_at >= 0 && g_frames >= g_inject_at) { push_error(g_inject_code); g_inject_at = -1; }
+    g->last_frame_s = now_s(); g->timed_out = 0;
+    if (g_inject_at >= 0 && g->frames >= g_inject_at) { push_error(g_inject_code); g_inject_at = -1; }
 }
 
 static void get_doubles(HDenum p, double *out) {
@@ -177,17 +238,17 @@ static void get_doubles(HDenum p, double *out) {
     case 0x2604: out[0] = CONT_FORCE_N; return;
     case 0x2609: out[0] = 0.005; return;
     case 0x2623: out[0] = 150.0; return;
-    case 0x2700: for (int i = 0; i < 3; i++) out[i] = g_out[i]; return;
+    case 0x2700: for (int i = 0; i < 3; i++) out[i] = g->out[i]; return;
     default: push_error(0x0100);
     }
 }
 
-void hdGetDoublev(HDenum p, double *out) { if (!g_init) { push_error(0x0104); return; } get_doubles(p, out); }
+void hdGetDoublev(HDenum p, double *out) { if (!g->init) { push_error(0x0104); return; } get_doubles(p, out); }
 
 void hdGetIntegerv(HDenum p, int *out) {
-    if (!g_init) { push_error(0x0104); return; }
+    if (!g->init) { push_error(0x0104); return; }
     switch (p) {
-    case 0x2000: out[0] = (g_frames / 500) % 2; return;  /* button 1 toggles every 0.5 s */
+    case 0x2000: out[0] = (g->frames / 500) % 2; return;  /* button 1 toggles every 0.5 s */
     case 0x2553: out[0] = 6; return;
     case 0x2554: out[0] = g_output_dof; return;
     default: push_error(0x0100);
@@ -248,17 +309,17 @@ static void *scheduler(void *arg) {
 }
 
 void hdStartScheduler(void) {
-    if (g_running) return;
-    g_running = 1; g_stop = 0;
+    if (g->running) return;
+    g->running = 1; g_stop = 0;
     if (!g_manual && !getenv("PAINTAPP_FAKE_HD_MANUAL")) pthread_create(&g_thread, NULL, scheduler, NULL);
     else g_manual = 1;
 }
 
 void hdStopScheduler(void) {
-    if (!g_running) return;
+    if (!g->running) return;
     g_stop = 1;
     if (!g_manual) pthread_join(g_thread, NULL);
-    g_running = 0;
+    g->running = 0;
 }
 
 /* test-only */
@@ -267,22 +328,35 @@ void fakeHdSetNoDevice(int on) { g_no_device = on; }
 void fakeHdSetOutputDof(int dof) { g_output_dof = dof; }
 void fakeHdInjectError(unsigned int code, long at_frame) { g_inject_code = code; g_inject_at = at_frame; }
 int fakeHdRunScheduler(int ticks) {
-    if (!g_running) return 0;
+    if (!g->running) return 0;
     for (int i = 0; i < ticks; i++) run_tasks();
     return ticks;
 }
+/* look at (and act as) the device whose state lives in ``path`` */
+void fakeHdMapPath(const char *path) {
+    if (g != &g_private) munmap(g, sizeof(Device));
+    g = &g_private;
+    map_path(path);
+}
+/* the force the motors give now (HD frame, N; the device's timeout applied), then the seconds
+ * since the last frame ended */
+void fakeHdOutput(double *out) {
+    device_output(out);
+    out[3] = now_s() - g->last_frame_s;
+}
 /* frames, writes, nonfinite, over-limit, max output N, output x y z (HD frame), caps, running,
- * initialised, frames run outside the scheduler */
+ * initialised, frames run outside the scheduler, the device's timeout s, timeouts seen */
 void fakeHdRecord(double *out) {
-    out[0] = (double)g_frames; out[1] = (double)g_writes; out[2] = (double)g_nonfinite;
+    out[0] = (double)g->frames; out[1] = (double)g_writes; out[2] = (double)g_nonfinite;
     out[3] = (double)g_over; out[4] = g_max_out;
-    out[5] = g_out[0]; out[6] = g_out[1]; out[7] = g_out[2];
-    out[8] = (double)g_caps; out[9] = (double)g_running; out[10] = (double)g_init;
-    out[11] = (double)g_frames_outside;
+    out[5] = g->out[0]; out[6] = g->out[1]; out[7] = g->out[2];
+    out[8] = (double)g_caps; out[9] = (double)g->running; out[10] = (double)g->init;
+    out[11] = (double)g_frames_outside; out[12] = g->timeout_s; out[13] = (double)g->timeouts;
 }
 void fakeHdReset(void) {
-    g_init = g_in_frame = g_running = 0; g_caps = 0; g_nerr = 0; g_inject_at = -1;
-    g_frames = g_writes = g_nonfinite = g_over = g_ramp = g_frames_outside = 0; g_max_out = 0.0;
+    memset(g, 0, sizeof *g);
+    g_in_frame = 0; g_caps = 0; g_nerr = 0; g_inject_at = -1;
+    g_writes = g_nonfinite = g_over = g_ramp = g_frames_outside = 0; g_max_out = 0.0;
     for (int i = 0; i < MAX_TASKS; i++) g_tasks[i] = NULL;
     g_no_device = 0; g_output_dof = 3;
     reset_hand();

@@ -7,6 +7,11 @@ device); then exactly one state update per message received. ``set_cursor_force`
 tick; every force received is recorded (count, non-finite, over the 3.3 N limit, the largest,
 the last). Each message advances the simulated hand by 1 ms.
 
+The device side is kept apart from the channel: ``Record.device_force`` is the force the service
+applies to the Inverse3 now. When the connection is lost (closed by the client, or its process
+dying) the service commands zero force at once; while a connection stays silent it commands zero
+once every ``check_interval_s`` (its own check), so the arm never keeps a stale force.
+
 Bounded: it serves at most ``max_messages`` messages and stops by itself after ``lifetime_s``.
 Faults on demand: close the connection after ``close_after`` messages (the service stopping
 mid-stroke), drop the Inverse3 from the updates after ``unplug_after`` (unplugged).
@@ -17,6 +22,7 @@ from __future__ import annotations
 import json
 import math
 import threading
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +33,8 @@ ARM_ID = "049D"
 GRIP_ID = "C3A1"
 CENTRE = (0.0, -0.12, 0.15)
 MAX_FORCE_N = 3.3
+#: How often the service checks a silent connection and idles the device, s.
+CHECK_INTERVAL_S = 0.1
 
 
 @dataclass
@@ -42,6 +50,15 @@ class Record:
     session: dict[str, Any] = field(default_factory=dict)
     probes: int = 0
     connections: int = 0
+    #: the force the service applies to the Inverse3 now
+    device_force: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    #: time.monotonic() of the last message received
+    last_message_s: float | None = None
+    #: time.monotonic() when the service saw the connection end, and when it then commanded zero
+    connection_lost_s: float | None = None
+    zeroed_after_loss_s: float | None = None
+    #: times a silent connection's check found a force applied and commanded zero
+    idle_stops: int = 0
 
 
 class FakeInverseService:
@@ -52,15 +69,20 @@ class FakeInverseService:
         grip: bool = True,
         close_after: int | None = None,
         unplug_after: int | None = None,
+        mute_after: int | None = None,
         max_messages: int = 100_000,
         lifetime_s: float = 60.0,
+        check_interval_s: float = CHECK_INTERVAL_S,
     ) -> None:
         self.grip = grip
         self.close_after = close_after
         self.unplug_after = unplug_after
+        self.mute_after = mute_after
         self.max_messages = max_messages
         self.lifetime_s = lifetime_s
+        self.check_interval_s = check_interval_s
         self.record = Record()
+        self._stopping = threading.Event()
         self._server: Server | None = None
         self._thread: threading.Thread | None = None
         self._timer: threading.Timer | None = None
@@ -88,6 +110,7 @@ class FakeInverseService:
         self.stop()
 
     def stop(self) -> None:
+        self._stopping.set()
         if self._timer is not None:
             self._timer.cancel()
         if self._server is not None:
@@ -176,6 +199,22 @@ class FakeInverseService:
             self.record.max_force_n = max(self.record.max_force_n, n)
             self.record.last_force = f
             self._force = f
+        self.record.device_force = list(self._force)
+
+    def _receive(self, ws: ServerConnection) -> str | bytes | None:
+        """The next message; None once the connection stayed silent for ``lifetime_s`` or the
+        service stops. Each ``check_interval_s`` without one, the device is commanded zero."""
+        silent_since = time.monotonic()
+        while not self._stopping.is_set():
+            try:
+                return ws.recv(timeout=self.check_interval_s)
+            except TimeoutError:
+                if any(self.record.device_force):
+                    self.record.idle_stops += 1
+                self.record.device_force = [0.0, 0.0, 0.0]
+                if time.monotonic() - silent_since > self.lifetime_s:
+                    return None
+        return None
 
     def _handle(self, ws: ServerConnection) -> None:
         self.record.connections += 1
@@ -184,13 +223,23 @@ class FakeInverseService:
         try:
             ws.send(json.dumps(self._message(full=True)))
             while self.record.messages < self.max_messages:
-                raw = ws.recv(timeout=self.lifetime_s)
+                raw = self._receive(ws)
+                if raw is None:
+                    return
+                self.record.last_message_s = time.monotonic()
                 self._apply(json.loads(raw))
                 self.record.messages += 1
                 if self.close_after is not None and self.record.messages >= self.close_after:
                     ws.close()
                     return
                 self._step()
+                if self.mute_after is not None and self.record.messages >= self.mute_after:
+                    continue  # a service that stalls: it reads on but answers no more
                 ws.send(json.dumps(self._message(full=False)))
-        except (ConnectionClosed, TimeoutError):
+        except ConnectionClosed:
             return
+        finally:
+            # the connection is gone (or given up): the device gets zero force
+            self.record.connection_lost_s = time.monotonic()
+            self.record.device_force = [0.0, 0.0, 0.0]
+            self.record.zeroed_after_loss_s = time.monotonic()
