@@ -42,6 +42,7 @@ from typing import Any
 from brushes.bristles import MAX_CLUMPS, MAX_CONTRAST, Bristles
 from brushes.tips import RoundCone, RoundedBox, Splayed, TipShape
 from common.errors import InputError
+from common.limits import MAX_TOML_BYTES, check_nesting, read_text_capped
 from common.names import check_preset_name, is_preset_name
 from common.tables import Table
 
@@ -269,11 +270,12 @@ def load_preset(path: str | Path) -> BrushPreset:
     except ValueError as exc:
         raise InputError(str(exc), source=source) from None
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text_capped(path, MAX_TOML_BYTES, "brush preset", encoding="utf-8")
     except FileNotFoundError:
         raise InputError("no such brush preset file", source=source) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read the preset: {exc}", source=source) from None
+    check_nesting(text, source, toml=True)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

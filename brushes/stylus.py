@@ -16,6 +16,9 @@ import numpy as np
 from common.errors import InputError
 
 MAX_BUTTONS = 2**31 - 1
+#: Largest coordinate of a position, metres: far beyond any canvas or device workspace, and small
+#: enough that grid indices computed from it stay exact.
+MAX_POSITION_M = 1e6
 
 
 def _finite_vector(value: Any, size: int, key: str) -> np.ndarray:
@@ -70,6 +73,11 @@ class StylusSample:
     def __post_init__(self) -> None:
         t = _finite(self.t_s, "t_s")
         pos = _finite_vector(self.position_m, 3, "position_m")
+        if np.any(np.abs(pos) > MAX_POSITION_M):
+            raise InputError(
+                f"expected coordinates within +-{MAX_POSITION_M:g} m, got {pos.tolist()}",
+                key="position_m",
+            )
         pressure = _finite(self.pressure, "pressure")
         if not 0.0 <= pressure <= 1.0:
             raise InputError(f"expected a pressure in [0, 1], got {pressure}", key="pressure")

@@ -26,8 +26,9 @@ import numpy as np
 import OpenImageIO as oiio
 
 from common.errors import InputError
+from common.limits import check_nesting
 from paintapp.atomic import atomic_path
-from paintapp.canvas.model import MAX_PIXELS, Canvas
+from paintapp.canvas.model import MAX_PAINT_M, MAX_PIXELS, Canvas
 from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
 from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 
@@ -130,6 +131,7 @@ def _read_info(spec: oiio.ImageSpec, source: str) -> dict:
     raw = spec.getattribute(META_KEY)
     if not isinstance(raw, str):
         raise InputError("not a paintapp canvas: no paintapp:canvas metadata", source, META_KEY)
+    check_nesting(raw, source, toml=False, key=META_KEY)
     try:
         info = json.loads(raw)
     except json.JSONDecodeError as exc:
@@ -175,6 +177,8 @@ def read_canvas_exr(path: str | Path) -> Canvas:
         raise InputError(f"{bad} non-finite value(s) in the paint channels", source)
     if np.any(height < 0) or any(np.any((c < 0) | (c > 1.001)) for c in conc):
         raise InputError("paint height must be >= 0 and concentrations in [0, 1]", source, HEIGHT)
+    if np.any(height > MAX_PAINT_M):  # on bare texels too: no height is dropped unseen
+        raise InputError(f"paint height must be at most {MAX_PAINT_M} m", source, HEIGHT)
     if np.any((wetness < 0) | (wetness > 1.001)):
         raise InputError("wetness must be in [0, 1]", source, WETNESS)
     fractions = np.stack(conc).reshape(len(names), spec.height, spec.width)
@@ -206,6 +210,12 @@ def read_exr_rgba(path: str | Path) -> np.ndarray:
     return rgba
 
 
+def _one_line(text: str) -> str:
+    """OpenImageIO's message on one line, without its advice on raising its own limits."""
+    lines = [s.strip() for s in text.splitlines() if s.strip() and "limits:" not in s]
+    return " ".join(lines)
+
+
 def _read_image(path: Path) -> tuple[oiio.ImageSpec, np.ndarray]:
     """(spec, pixels (H, W, C) float32, top row first) of the first subimage of an EXR."""
     source = str(path)
@@ -213,7 +223,7 @@ def _read_image(path: Path) -> tuple[oiio.ImageSpec, np.ndarray]:
         raise InputError("no such file", source)
     inp = oiio.ImageInput.open(source)
     if inp is None:
-        raise InputError(f"cannot read image: {oiio.geterror()}", source)
+        raise InputError(f"cannot read image: {_one_line(oiio.geterror())}", source)
     try:
         spec = inp.spec()
         if inp.format_name() != "openexr":
@@ -226,7 +236,7 @@ def _read_image(path: Path) -> tuple[oiio.ImageSpec, np.ndarray]:
             )
         pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
         if pixels is None:
-            raise InputError(f"cannot decode pixels: {inp.geterror()}", source)
+            raise InputError(f"cannot decode pixels: {_one_line(inp.geterror())}", source)
     finally:
         inp.close()
     return spec, np.asarray(pixels, np.float32).reshape(spec.height, spec.width, spec.nchannels)

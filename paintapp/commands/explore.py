@@ -51,7 +51,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=float,
         nargs="+",
         metavar="M",
-        help="diameter, or the box's edge(s), metres (default: 8 node spacings)",
+        help="diameter, or the box's edge(s), metres (default: 8 node spacings, at most half the "
+        "data set's longest side; larger than that side is an error)",
     )
     parser.add_argument(
         "--depth", type=float, metavar="M", help="2D: depth of the probe the force is felt over"
@@ -91,13 +92,16 @@ def _data_paths(args: argparse.Namespace) -> list[Path]:
 
 def build_exploration(args: argparse.Namespace) -> Exploration:
     """Load the data and place the probe the arguments describe."""
-    from paintapp.explore.exploration import Exploration, ProbeSpec
     from paintapp.explore.flow_files import FluidOverrides, load_flow
 
     overrides = FluidOverrides(args.density, args.viscosity, args.frame_dt, args.pressure_units)
-    flow = load_flow(_data_paths(args), overrides)
+    flow = load_flow(_data_paths(args), overrides)  # checked before the numerics are loaded
+    from paintapp.explore.exploration import Exploration, ProbeSpec
+
     shape = args.probe or ("circle" if flow.dim == 2 else "sphere")
-    size = tuple(args.size) if args.size else (8.0 * float(flow.spacing_m.min()),)
+    lo, hi = flow.extent_m
+    default = min(8.0 * float(flow.spacing_m.min()), 0.5 * float((hi - lo).max()))
+    size = tuple(args.size) if args.size else (default,)
     return Exploration(flow, ProbeSpec(shape, size, args.depth))
 
 
@@ -108,13 +112,14 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"{flag} needs a scripted --path", key=flag)
     if args.path is None:
         return _window(args)
-    from paintapp.explore.exploration import run_scripted
     from paintapp.explore.probe_paths import read_probe_path
     from paintapp.output_paths import prepare_outputs
-    from paintapp.session.outputs import plot_forces, write_forces_csv
 
     prepare_outputs(outputs)  # before any work: writable, not a folder, not the same file twice
     exploration = build_exploration(args)
+    from paintapp.explore.exploration import run_scripted
+    from paintapp.session.outputs import plot_forces, write_forces_csv
+
     path = read_probe_path(args.path, exploration.flow.dim)
     result = run_scripted(
         exploration, path, rate_hz=args.rate, force_scale=args.force_scale, loop=args.loop

@@ -32,6 +32,9 @@ PROBE_SHAPES = ("circle", "box", "sphere")
 DEFAULT_RATE_HZ = 200.0
 #: Most force evaluations a scripted run may ask for.
 MAX_EVALUATIONS = 2_000_000
+#: Longest scripted path, seconds: the servo loop runs one tick per millisecond and keeps every
+#: tick's row of the trace, so the duration sets the time and memory a run takes.
+MAX_PATH_S = 600.0
 
 
 @dataclass(frozen=True)
@@ -56,7 +59,7 @@ class ProbeSpec:
             raise InputError(f"expected sizes > 0 (metres), got {self.size_m}", key="--size")
         if self.shape == "box":
             size = self.size_m if len(self.size_m) == dim else self.size_m[:1] * dim
-            if len(size) != dim:
+            if len(size) != dim or len(self.size_m) not in (1, dim):
                 raise InputError(f"a {dim}D box needs 1 or {dim} sizes", key="--size")
             return Box(tuple(float(s) for s in size))
         if len(self.size_m) != 1:
@@ -98,6 +101,14 @@ class Exploration:
         self.flow = flow
         self.probe = probe
         self.shape = probe.solid(flow.dim)
+        lo, hi = flow.extent_m
+        across = float(np.max(hi - lo))
+        if max(probe.size_m) > across:
+            raise InputError(
+                f"the probe ({max(probe.size_m):g} m) is larger than the data set ({across:g} m "
+                "across its longest side): no fluid would be left around it",
+                key="--size",
+            )
         spacing = quadrature_spacing_m or 0.5 * float(flow.spacing_m.min())
         self.rule = surface_rule(self.shape, flow.dim, spacing)
         self.depth_m = probe.felt_depth_m() if flow.dim == 2 else 1.0
@@ -179,6 +190,12 @@ def run_scripted(
         raise InputError(f"expected a rate in [1, 10000] Hz, got {rate_hz}", key="--rate")
     times = path.times_s  # type: ignore[attr-defined]
     t0, t1 = float(times[0]), float(times[-1])
+    if t1 - t0 > MAX_PATH_S:
+        raise InputError(
+            f"the path lasts {t1 - t0:.6g} s; at most {MAX_PATH_S:g} s are played (split it)",
+            source=getattr(path, "source", None),
+            key="t_s",
+        )
     count = math.floor((t1 - t0) * rate_hz) + 1
     if count > MAX_EVALUATIONS:
         raise InputError(

@@ -31,7 +31,7 @@ field, a wrong shape, non-finite values in the fluid, units that are not stated.
 
 from __future__ import annotations
 
-import zipfile
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from common.errors import InputError
+from common.limits import ARCHIVE_ERRORS, brief, npz_headers
 from paintapp.explore.flow_frame import Frame
 from solver import SampledFlow
 
@@ -48,6 +49,16 @@ MAX_NODES = 512**3
 #: Most frames in a time series.
 MAX_FRAMES = 10_000
 PRESSURE_UNITS = ("Pa", "m2/s2")
+#: Most values of the small ``.npz`` members, checked on their headers before anything is inflated.
+_MOST_VALUES = {
+    "origin": 3,
+    "spacing": 3,
+    "density": 1,
+    "viscosity": 1,
+    "period": 1,
+    "pressure_units": 1,
+    "times": MAX_FRAMES,
+}
 VTK_SUFFIXES = (".vti", ".vtr", ".vtk")
 
 
@@ -68,6 +79,8 @@ def load_flow(paths: Sequence[str | Path], overrides: FluidOverrides | None = No
     if not files:
         raise InputError("no data file given; expected a .npz or VTK file (.vti, .vtr, .vtk)")
     for f in files:
+        if f.is_dir():
+            raise InputError("is a folder; expected a data file (.npz, .vti, .vtr, .vtk)", str(f))
         if not f.is_file():
             raise InputError("no such file", source=str(f))
     suffixes = {f.suffix.lower() for f in files}
@@ -89,10 +102,20 @@ def load_flow(paths: Sequence[str | Path], overrides: FluidOverrides | None = No
 def _from_npz(path: Path, overrides: FluidOverrides) -> SampledFlow:
     source = str(path)
     try:
+        for key, (shape, _) in npz_headers(path).items():
+            most = _MOST_VALUES.get(key)
+            if most is not None and math.prod(shape) > most:
+                raise InputError(
+                    f"holds {math.prod(shape)} values of shape {shape}; expected at most {most}",
+                    source,
+                    key,
+                )
         with np.load(path, allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
-    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
-        raise InputError(f"not a readable .npz file ({exc})", source=source) from None
+    except ARCHIVE_ERRORS as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(f"not a readable .npz file ({brief(exc)})", source=source) from None
     known = {
         "p",
         "u",

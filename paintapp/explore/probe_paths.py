@@ -23,9 +23,12 @@ import numpy as np
 
 from common import quaternion
 from common.errors import InputError
+from common.limits import read_text_capped
 
 #: Most keyframes a path may hold.
 MAX_ROWS = 1_000_000
+#: Most bytes of a path file.
+MAX_BYTES = 64 * 1024**2
 
 
 @dataclass(frozen=True)
@@ -64,12 +67,16 @@ def read_probe_path(path: str | Path, dim: int) -> ProbePath:
     """Read and validate a path for a ``dim``-dimensional data set."""
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
+        text = read_text_capped(path, MAX_BYTES, "path file")
     except FileNotFoundError:
         raise InputError("no such path file", source=source) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read the path file: {exc}", source=source) from None
-    rows = list(csv.reader(io.StringIO(text)))
+    reader = csv.reader(io.StringIO(text))
+    try:
+        rows = list(reader)
+    except csv.Error as exc:
+        raise InputError(f"not valid CSV: {exc}", source=source, line=reader.line_num) from None
     if not rows:
         raise InputError("the path file is empty; expected a header row", source=source, line=1)
     header = [c.strip() for c in rows[0]]
@@ -112,6 +119,8 @@ def _columns(header: list[str], dim: int, source: str) -> dict[str, list[str]]:
     orient = ["angle_rad"] if dim == 2 else ["qw", "qx", "qy", "qz"]
     allowed = {"t_s", *position, *orient}
     for name in header:
+        if header.count(name) > 1:
+            raise InputError("column given twice", source, name, 1)
         if name not in allowed:
             raise InputError(
                 f"unknown column; expected t_s, {', '.join(position)} and optionally "

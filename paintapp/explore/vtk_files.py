@@ -3,16 +3,25 @@ with the ``vtk`` package (imported here only: it is large and only this reader n
 
 from __future__ import annotations
 
+import math
+import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from common.errors import InputError
+from common.limits import check_elements
 from paintapp.explore.flow_frame import Frame
 
 PRESSURE_NAMES = ("p", "pressure", "P")
 VELOCITY_NAMES = ("U", "u", "velocity", "Velocity")
+#: Bytes a point may take while read: pressure, three velocity components and the fluid mask as
+#: float64, once in VTK's arrays and once in ours.
+BYTES_PER_POINT = 2 * 5 * 8
+#: How much of a file's start is searched for its header.
+HEADER_BYTES = 64 * 1024
+_XML_ATTRIBUTE = r'\b{}\s*=\s*"([^"]*)"'
 
 
 def read_vtk_frame(path: Path) -> Frame:
@@ -63,6 +72,7 @@ def _read(path: Path) -> Any:
         ) from None
     vtkObject.GlobalWarningDisplayOff()  # our own message says what is wrong
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    check_header(path)
     suffix = path.suffix.lower()
     readers: dict[str, Any] = {".vti": vtkXMLImageDataReader, ".vtr": vtkXMLRectilinearGridReader}
     reader: Any = readers.get(suffix, vtkDataSetReader)()
@@ -79,6 +89,57 @@ def _read(path: Path) -> Any:
             f"holds a {kind}; expected image data or a rectilinear grid (resample first)", str(path)
         )
     return data
+
+
+def check_header(path: Path) -> None:
+    """Refuse a file whose header claims more points than the memory budget allows, or a grid
+    origin or spacing that is not finite, before VTK reads (and allocates) anything."""
+    source = str(path)
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(HEADER_BYTES).decode("latin-1")
+    except OSError as exc:
+        raise InputError(f"cannot read the VTK file: {exc.strerror}", source) from None
+    if path.suffix.lower() in (".vti", ".vtr"):
+        extent = _numbers(head, _XML_ATTRIBUTE.format("WholeExtent"), source, "WholeExtent", 6)
+        if extent is not None:
+            counts = [int(extent[2 * a + 1] - extent[2 * a] + 1) for a in range(3)]
+            check_elements(
+                math.prod(max(c, 0) for c in counts), BYTES_PER_POINT, source, "WholeExtent"
+            )
+        for key in ("Origin", "Spacing"):
+            _numbers(head, _XML_ATTRIBUTE.format(key), source, key, 3)
+        return
+    dims = _numbers(head, r"(?im)^\s*DIMENSIONS\s+(\S+\s+\S+\s+\S+)", source, "DIMENSIONS", 3)
+    if dims is not None:
+        check_elements(
+            math.prod(max(int(d), 0) for d in dims), BYTES_PER_POINT, source, "DIMENSIONS"
+        )
+    for key in ("POINT_DATA", "CELL_DATA"):
+        count = _numbers(head, rf"(?im)^\s*{key}\s+(\S+)", source, key, 1)
+        if count is not None:
+            check_elements(int(count[0]), BYTES_PER_POINT, source, key)
+    for key in ("ORIGIN", "SPACING", "ASPECT_RATIO"):
+        _numbers(head, rf"(?im)^\s*{key}\s+(\S+\s+\S+\s+\S+)", source, key, 3)
+
+
+def _numbers(head: str, pattern: str, source: str, key: str, count: int) -> list[float] | None:
+    """The ``count`` finite numbers of the header field ``key`` (None where it is absent)."""
+    found = re.search(pattern, head)
+    if found is None:
+        return None
+    given = found.group(1)[:80]
+    try:
+        values = [float(v) for v in found.group(1).split()]
+    except ValueError:
+        values = []
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise InputError(f"expected {count} finite numbers, got {given!r}", source, key)
+    if key in ("WholeExtent", "DIMENSIONS", "POINT_DATA", "CELL_DATA") and not all(
+        v.is_integer() and abs(v) < 2**62 for v in values
+    ):
+        raise InputError(f"expected {count} whole numbers, got {given!r}", source, key)
+    return values
 
 
 def _geometry(data: Any, source: str) -> tuple[np.ndarray, np.ndarray]:

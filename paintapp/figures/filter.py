@@ -114,6 +114,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("the figure is written as PNG; give a .png file name", key="--out")
     if not out.parent.exists():
         raise InputError(f"directory {out.parent} does not exist", key="--out")
+    if not 0 <= args.seed < 2**63:
+        raise InputError(f"expected a seed >= 0 and < 2**63, got {args.seed}", key="--seed")
     data = figure_data(seed=args.seed)
     plot(data, out)
     zoh = high_frequency_energy(data["zoh"], 1e-3)

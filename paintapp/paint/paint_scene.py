@@ -60,6 +60,7 @@ from pathlib import Path
 from typing import Literal, TypeVar, cast, get_args
 
 from common.errors import InputError
+from common.limits import MAX_TOML_BYTES, check_nesting, read_text_capped
 from common.tables import Table
 from paintapp.resources import asset_path
 from solver import SolverSettings, method_keys
@@ -372,7 +373,9 @@ def load_paint_scene_file(path: str | Path) -> PaintScene:
     path = Path(path)
     source = str(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = read_text_capped(path, MAX_TOML_BYTES, "painting scene file", encoding="utf-8")
+        check_nesting(text, source, toml=True)
+        data = tomllib.loads(text)
     except FileNotFoundError:
         raise InputError("no such painting scene file", source) from None
     except (OSError, UnicodeDecodeError) as exc:

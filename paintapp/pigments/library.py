@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from common.errors import InputError
+from common.limits import MAX_TOML_BYTES, check_nesting, read_text_capped
 from common.names import is_pigment_name
 from paintapp.pigments.kubelka_munk import masstone_ks
 from paintapp.pigments.spectra import (
@@ -206,7 +207,9 @@ def load_pigment(path: str | Path) -> Pigment:
     """Load one pigment TOML file; malformed files raise :class:`InputError` naming file and key."""
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = read_text_capped(path, MAX_TOML_BYTES, "pigment file", encoding="utf-8")
+        check_nesting(text, str(path), toml=True)
+        data = tomllib.loads(text)
     except OSError as exc:
         raise InputError(f"cannot read pigment file: {exc.strerror}", source=str(path)) from exc
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

@@ -6,6 +6,7 @@ Every problem is reported as an :class:`~common.errors.InputError` naming the fi
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 import tomllib
@@ -15,7 +16,9 @@ from typing import TypedDict, TypeVar, cast
 
 import numpy as np
 
+from common import quaternion
 from common.errors import InputError
+from common.limits import MAX_TOML_BYTES, check_nesting, read_bytes_capped
 from common.tables import Table
 from solver.boundary import KIND_NAMES, SIDE_NAMES, DomainBoundary, Side
 from solver.compiled.threads import MAX_THREADS
@@ -35,12 +38,15 @@ from solver.settings import (
     PressureScheme,
     ViscosityPreconditioner,
 )
-from solver.shapes import Ball, Box, Shape
+from solver.shapes import Ball, Box
 from solver.simulation import Fluid, Simulation, SolverSettings
 
 SCHEMA_VERSION = 1
 MAX_CELLS = 64_000_000
 MAX_STEPS = 1_000_000_000
+#: Smallest time step, seconds: below it the step's arithmetic (1/dt, CFL numbers) overflows
+#: long before a run could mean anything.
+MIN_DT_S = 1e-9
 #: Most points an output line may sample, and most iterations a solve may be allowed.
 MAX_LINE_POINTS = 100_000
 MAX_ITERATIONS = 1_000_000
@@ -108,7 +114,7 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file."""
     source = str(path)
     try:
-        raw = Path(path).read_bytes()
+        raw = read_bytes_capped(path, MAX_TOML_BYTES, "scene file")
     except OSError as exc:
         raise InputError(f"cannot read scene file: {exc.strerror}", source) from None
     try:
@@ -116,6 +122,7 @@ def load_scene(path: str | Path) -> Scene:
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise InputError("scene file is not UTF-8 text", source, line=line) from None
+    check_nesting(text, source, toml=True)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -220,7 +227,7 @@ def _probe(t: Table, grid: Grid) -> Probe:
     name = t.string("name")
     shapes = ("circle", "box") if dim == 2 else ("sphere", "box")
     kind = t.string("shape", choices=shapes)
-    shape: Shape
+    shape: Ball | Box
     orientation: float | np.ndarray
     omega: float | np.ndarray
     if kind == "box":
@@ -237,6 +244,7 @@ def _probe(t: Table, grid: Grid) -> Probe:
             raise t.error("orientation", "expected a non-zero quaternion [w, x, y, z]")
         orientation = q / np.linalg.norm(q)
         omega = np.array(t.vector("angular_velocity", 3, (0.0, 0.0, 0.0)))
+    _check_fluid_left(t, grid, shape, centre, orientation, "size" if kind == "box" else "radius")
     velocity = np.array(t.vector("velocity", dim, (0.0,) * dim))
     reference = np.array(t.vector("reference", dim, (0.0,) * dim))
     path = _path(t, grid) if t.has("path") else None
@@ -245,6 +253,25 @@ def _probe(t: Table, grid: Grid) -> Probe:
     return Probe(
         name, shape, dim, centre, orientation, velocity, omega, path, reference, interpolation
     )
+
+
+def _check_fluid_left(
+    t: Table,
+    grid: Grid,
+    shape: Ball | Box,
+    centre: np.ndarray,
+    orientation: float | np.ndarray,
+    key: str,
+) -> None:
+    """Refuse a probe that covers the whole domain: with every corner inside the (convex) probe,
+    no fluid cell is left and every force would read 0."""
+    lo = np.asarray(grid.origin_m[: grid.dim], dtype=float)
+    corners = np.array(list(itertools.product(*zip(lo, lo + grid.size_m, strict=True))))
+    rotation = quaternion.rotation_matrix(grid.dim, orientation)
+    with np.errstate(over="ignore", invalid="ignore"):
+        inside = shape.sdf_numpy((corners - centre) @ rotation) <= 0.0
+    if np.all(inside):
+        raise t.error(key, "the probe covers the whole domain: no fluid is left")
 
 
 def _path(t: Table, grid: Grid) -> np.ndarray:
@@ -383,6 +410,8 @@ def _choice(t: Table, key: str, default: str, choices: tuple[Mode, ...]) -> Mode
 
 def _run(t: Table) -> RunSpec:
     dt = t.number("dt", minimum=0.0, exclusive=True)
+    if dt < MIN_DT_S:
+        raise t.error("dt", f"expected a time step of at least {MIN_DT_S:g} s, got {dt:g}")
     if t.has("steps") and t.has("duration"):
         raise t.error("steps", "give either duration or steps, not both")
     if t.has("steps"):

@@ -180,3 +180,19 @@ def test_bristle_profiles_stay_in_range_and_streak_across_the_width():
     peaks = np.count_nonzero(np.diff(np.sign(np.diff(bristles.tracks(u[inner])))) < 0)
     assert peaks >= bristles.clumps // 3  # several separate streaks, not one hump
     assert bristles.edge(np.array([0.0]))[0] == 0.0 and bristles.edge(np.array([1.0]))[0] == 1.0
+
+
+def test_a_preset_nested_too_deeply_or_too_large_is_refused(tmp_path, monkeypatch):
+    import brushes.presets as presets
+
+    deep = tmp_path / "deep.toml"
+    deep.write_text("name = 'x'\nshape = " + "[" * 1000 + "]" * 1000 + "\n", "utf-8")
+    with pytest.raises(InputError, match="nested more than") as err:
+        presets.load_preset(deep)
+    assert err.value.source == str(deep) and err.value.line == 2
+    monkeypatch.setattr(presets, "MAX_TOML_BYTES", 100)
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * 200 + "\n", "utf-8")
+    with pytest.raises(InputError, match="larger than 100 bytes") as err:
+        presets.load_preset(big)
+    assert err.value.source == str(big)

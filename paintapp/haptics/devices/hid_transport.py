@@ -165,7 +165,10 @@ def parse_ids(text: str) -> tuple[int, int]:
     """``"046d:c294"`` -> (0x046D, 0xC294)."""
     try:
         vid, pid = text.split(":")
-        return int(vid, 16), int(pid, 16)
+        ids = int(vid, 16), int(pid, 16)
+        if not all(0 <= i <= 0xFFFF for i in ids):
+            raise ValueError("ids are 16-bit")
+        return ids
     except ValueError as exc:
         raise DeviceNotFoundError(
             f"device id {text!r} is not VENDOR:PRODUCT in hex (e.g. 046d:c294)"

@@ -219,3 +219,54 @@ def test_preview_is_srgb_encoded_8_bit_with_the_top_row_first(tmp_path):
     assert inp.spec().format == oiio.UINT8
     np.testing.assert_array_equal(inp.read_image(0, 0, 0, 3, "uint8"), pixels)
     inp.close()
+
+
+def _claim_size(path, out, width: int, height: int) -> None:
+    """Copy an EXR, its header claiming ``width`` x ``height`` pixels."""
+    import struct
+
+    raw = bytearray(path.read_bytes())
+    for name in (b"dataWindow\0box2i\0", b"displayWindow\0box2i\0"):
+        at = raw.index(name) + len(name) + 4
+        raw[at + 8 : at + 16] = struct.pack("<ii", width - 1, height - 1)
+    out.write_bytes(bytes(raw))
+
+
+def test_a_header_claiming_a_huge_image_is_one_line(tmp_path):
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, painted_canvas(), half=False)
+    big = tmp_path / "big.exr"
+    _claim_size(path, big, 100_000, 100_000)
+    with pytest.raises(InputError) as info:
+        read_canvas_exr(big)
+    assert info.value.source == str(big) and "\n" not in str(info.value)
+
+
+def test_deeply_nested_metadata_is_refused_before_parsing(tmp_path):
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, painted_canvas(), half=False)
+    inp = oiio.ImageInput.open(str(path))
+    spec, pixels = inp.spec(), inp.read_image(0, 0, 0, 9, "float")
+    inp.close()
+    deep = tmp_path / "deep.exr"
+    meta = "[" * 5000 + "]" * 5000
+    write_plain_exr(deep, list(spec.channelnames), pixels, [("paintapp:canvas", meta)])
+    with pytest.raises(InputError, match="nested more than") as info:
+        read_canvas_exr(deep)
+    assert info.value.source == str(deep) and info.value.key == "paintapp:canvas"
+
+
+def test_a_huge_height_on_a_bare_texel_is_rejected_not_dropped(tmp_path):
+    path = tmp_path / "c.exr"
+    write_canvas_exr(path, painted_canvas(), half=False)
+    inp = oiio.ImageInput.open(str(path))
+    spec, pixels = inp.spec(), inp.read_image(0, 0, 0, 9, "float")
+    inp.close()
+    row = spec.height - 1  # the file's top row is the canvas's row 0: bare canvas there
+    assert np.all(pixels[row, 0, 6:] == 0.0)
+    pixels[row, 0, 4] = 1e30  # paint.height
+    meta = spec.getattribute("paintapp:canvas")
+    write_plain_exr(path, list(spec.channelnames), pixels, [("paintapp:canvas", meta)])
+    with pytest.raises(InputError, match="at most") as info:
+        read_canvas_exr(path)
+    assert info.value.key == "paint.height" and info.value.source == str(path)

@@ -38,3 +38,9 @@ def test_figures_filter_writes_a_png(tmp_path: Path, capsys: pytest.CaptureFixtu
 
 def test_figures_filter_rejects_a_missing_directory(tmp_path: Path) -> None:
     assert main(["figures", "filter", "--out", str(tmp_path / "nope" / "f.png")]) == 2
+
+
+def test_figures_filter_rejects_a_negative_seed(tmp_path: Path, capsys) -> None:
+    assert main(["figures", "filter", "--out", str(tmp_path / "f.png"), "--seed", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert "'--seed'" in err and "Traceback" not in err

@@ -218,3 +218,19 @@ def test_upsampling_is_cached_on_disk(tmp_path, monkeypatch):
     pigments_spectral._jakob_reflectance.cache_clear()
     np.testing.assert_allclose(pigments_spectral.srgb_to_reflectance(colour_srgb), fitted)
     pigments_spectral._jakob_reflectance.cache_clear()
+
+
+def test_a_pigment_file_nested_too_deeply_or_too_large_is_refused(tmp_path, monkeypatch):
+    import paintapp.pigments.library as library
+
+    deep = tmp_path / "deep.toml"
+    deep.write_text("name = 'x'\nreflectance = " + "[" * 1000 + "]" * 1000 + "\n", "utf-8")
+    with pytest.raises(InputError, match="nested more than") as err:
+        load_pigment(deep)
+    assert err.value.source == str(deep) and err.value.line == 2
+    monkeypatch.setattr(library, "MAX_TOML_BYTES", 100)
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * 200 + "\n", "utf-8")
+    with pytest.raises(InputError, match="larger than 100 bytes") as err:
+        load_pigment(big)
+    assert err.value.source == str(big)

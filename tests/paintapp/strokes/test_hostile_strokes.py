@@ -80,3 +80,10 @@ def test_time_jumps_are_kept_and_listed_with_their_lines(tmp_path):
     assert [line for line, _ in f.gaps] == [5, 6]
     assert all(gap > MAX_GAP_S for _, gap in f.gaps)
     assert f.samples[-1].t_s == 1e300
+
+
+def test_an_absurd_position_is_refused_with_its_line(tmp_path):
+    far = {**SAMPLES[0], "t": 0.5, "pos": [1e18, 0.005, 0.0]}
+    with pytest.raises(InputError, match=r"within \+-1e\+06 m") as err:
+        read_strokes(write(tmp_path / "s.jsonl", [HEADER, *SAMPLES, far]))
+    assert err.value.line == 5 and err.value.key == "pos"

@@ -91,8 +91,12 @@ def test_a_byte_order_mark_is_skipped_and_toml_errors_have_a_line(tmp_path):
     assert err.value.line is not None
 
 
-def test_a_probe_over_the_whole_domain_gives_finite_json():
+def test_a_probe_over_the_whole_domain_is_refused_and_over_a_point_gives_finite_json():
     probe = {"name": "all", "shape": "box", "center": [0.5, 0.5], "size": [3.0, 3.0]}
+    with pytest.raises(InputError, match="no fluid is left") as err:
+        parse_scene(scene_dict(probes=[probe]))
+    assert err.value.key == "probes[0].size"
+    probe["size"] = [0.9, 0.9]  # the corners stay fluid
     points = [{"name": "p", "at": [0.5, 0.5]}]
     lines = [{"name": "l", "start": [0.0, 0.5], "end": [1.0, 0.5], "points": 5}]
     scene = parse_scene(scene_dict(probes=[probe], output={"points": points, "lines": lines}))

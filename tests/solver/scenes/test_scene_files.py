@@ -75,6 +75,9 @@ def test_bundled_scenes_load():
         ("center = [0.3, 0.25]", "center = [1.3, 0.25]", "probes[0].center", "outside the domain"),
         ('shape = "circle"', 'shape = "sphere"', "probes[0].shape", "circle, box"),
         ("dt = 0.05", "dt = 0", "run.dt", "> 0"),
+        ("dt = 0.05", "dt = 5e-324", "run.dt", "at least 1e-09 s"),
+        ("radius = 0.05", "radius = 5.0", "probes[0].radius", "no fluid is left"),
+        ("radius = 0.05", "radius = 1e300", "probes[0].radius", "no fluid is left"),
         (
             'x_max = { kind = "outflow" }',
             'x_max = { kind = "drain" }',
@@ -160,3 +163,35 @@ def test_simulate_cli_bad_scene_exits_nonzero_without_traceback(tmp_path, capsys
     assert "fluid.viscosity" in err and "Traceback" not in err
     assert main(["simulate", str(tmp_path / "missing.toml")]) == 2
     assert "cannot read scene file" in capsys.readouterr().err
+
+
+def test_a_scene_file_that_never_ends_is_read_no_further_than_the_cap(tmp_path, monkeypatch):
+    import solver.scenes.scene as scene_module
+
+    monkeypatch.setattr(scene_module, "MAX_TOML_BYTES", 1000)
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * 2000 + "\n", encoding="utf-8")
+    with pytest.raises(InputError, match="larger than 1000 bytes") as err:
+        load_scene(big)
+    assert err.value.source == str(big)
+    if Path("/dev/zero").exists():
+        with pytest.raises(InputError, match="larger than 1000 bytes"):
+            load_scene("/dev/zero")
+
+
+def test_deeply_nested_toml_is_one_line_not_a_recursion_error(tmp_path, capsys):
+    deep = tmp_path / "deep.toml"
+    deep.write_text("version = 1\na = " + "[" * 1000 + "]" * 1000 + "\n", encoding="utf-8")
+    with pytest.raises(InputError, match="nested more than 64") as err:
+        load_scene(deep)
+    assert err.value.source == str(deep) and err.value.line == 2
+    assert main(["simulate", str(deep)]) == 2
+    assert "Traceback" not in capsys.readouterr().err
+
+
+def test_brackets_in_strings_and_comments_are_not_nesting():
+    from common.limits import check_nesting
+
+    text = 'a = "' + "[" * 100 + '" # ' + "{" * 100 + "\nb = '" + "[" * 100 + "'\n"
+    check_nesting(text, "t.toml", toml=True)
+    check_nesting(json.dumps({"k": "[" * 100, "l": [[['\\"[']]]}), "t.json", toml=False)

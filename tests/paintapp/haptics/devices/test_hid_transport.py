@@ -50,6 +50,8 @@ def test_opening_a_missing_device_is_a_clear_input_error() -> None:
         ht.open_hid(path=b"/dev/hidraw-does-not-exist")
     with pytest.raises(DeviceNotFoundError, match="VENDOR:PRODUCT"):
         ht.parse_ids("12345")
+    with pytest.raises(DeviceNotFoundError, match="VENDOR:PRODUCT"):
+        ht.parse_ids("99999:1")  # vendor ids are 16 bits
     assert ht.parse_ids("046d:C294") == (0x046D, 0xC294)
 
 
