@@ -175,10 +175,13 @@ def run_process_once(
     config: ServoConfig,
     simulation: tuple[SimStep, str] | None = None,
     progress: Callable[[float], None] | None = None,
+    device: str = "sim:stroke",
 ) -> CheckRun:
     """Like :func:`run_once`, with the loop in a servo process of its own (the window's form):
-    the simulation (or the synthetic drag) runs here and publishes through shared memory."""
-    servo = ServoProcess(ProcessOptions(device="sim:stroke", config=config))
+    the simulation (or the synthetic drag) runs here and publishes through shared memory.
+    ``device``: what the servo process drives (``--device``'s text; default the simulated
+    stylus playing a stroke)."""
+    servo = ServoProcess(ProcessOptions(device=device, config=config))
     servo.start()
     try:
         with StealMonitor() as steal:

@@ -104,37 +104,9 @@ def _vendor_thread_run(text: str, seconds: float, config: ServoConfig) -> CheckR
 
 def _vendor_process_run(text: str, seconds: float, config: ServoConfig) -> CheckRun:
     """The loop in a servo process of its own with the device ``text`` names, idle."""
-    import threading
-    import time
+    from paintapp.bench.servo_check import run_process_once
 
-    from paintapp.bench.servo_check import CheckRun
-    from paintapp.haptics.process import ProcessOptions, ServoProcess
-    from paintapp.haptics.synthetic import ViscousDragSource, run_source_thread
-
-    servo = ServoProcess(ProcessOptions(device=text, config=config))
-    servo.start()
-    try:
-        stop = threading.Event()
-        source = ViscousDragSource(servo.states, servo.forces)
-        thread = run_source_thread(source, 60.0, stop)
-        time.sleep(seconds)
-        stop.set()
-        thread.join(1.0)
-    finally:
-        report = servo.stop()
-    if report is None:
-        raise RuntimeError(f"the servo process ended without a report ({servo.fault})")
-    audit = servo.audit()
-    bad = int(audit.get("nonfinite_writes", 0) + audit.get("over_limit_writes", 0))
-    return CheckRun(
-        "process, idle",
-        report,
-        "synthetic drag, 60 Hz",
-        source.published,
-        float(audit.get("max_force_n", 0.0)),
-        servo.granted,
-        bad,
-    )
+    return run_process_once(seconds, config, device=text)
 
 
 def run_vendor(args: argparse.Namespace, config: ServoConfig, forms: list[str]) -> list[CheckRun]:
