@@ -16,8 +16,8 @@ something to redraw), the paint steps per second, and with a device the servo lo
 rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo loop
--- as fast as it takes them, from the first paint step on, and prints that paint-step rate and the
-window's share of it.
+-- as fast as it takes them, from the first paint step on, and prints that paint-step rate, the
+window's share of it, and the replay's real-time ratio (wall seconds per second of the journal).
 
 ``--rounds N`` repeats the whole measurement N times (a fresh window and servo process each time,
 each window run followed by its own headless run) and ends with a table of every round and the
@@ -184,10 +184,11 @@ def paint(app, win, seconds: float) -> dict[str, float | None]:
     }
 
 
-def headless_rate(seconds: float, journal: Path) -> tuple[float, float]:
+def headless_rate(seconds: float, journal: Path) -> tuple[float, float, float]:
     """Paint steps per second of a fresh session, no window and no servo loop, fed the very
     samples and events the window's simulation consumed (its journal), as fast as it can take
-    them, for up to ``seconds``; and the CPU time it got per wall second."""
+    them, for up to ``seconds``; the CPU time it got per wall second; and its real-time ratio:
+    wall seconds per second of the journal it replayed (NaN when it replayed none)."""
     from paintapp.app.options import PaintOptions, blank_canvas
     from paintapp.app.settings import PaintSettings, make_preset, make_scene, rebuild_session
     from paintapp.haptics.channel import ForceChannel
@@ -200,19 +201,24 @@ def headless_rate(seconds: float, journal: Path) -> tuple[float, float]:
     preset, scene = make_preset(settings), make_scene(settings, None)
     session = rebuild_session(None, canvas, preset, scene, kind, ForceChannel())
     records = iter(strokes.records)
+    first_t = last_t = 0.0
     for record in records:  # up to the first paint step (the hover before it is not timed)
         session.handle(record)
         if session.stats.paint_steps > 0:
+            first_t = last_t = record.t_s
             break
     steps0 = session.stats.paint_steps
     cpu0 = time.thread_time()
     start = time.perf_counter()
     for record in records:
         session.handle(record)
+        last_t = record.t_s
         if time.perf_counter() - start > seconds:
             break
     elapsed = time.perf_counter() - start
-    return (session.stats.paint_steps - steps0) / elapsed, (time.thread_time() - cpu0) / elapsed
+    realtime = elapsed / (last_t - first_t) if last_t > first_t else math.nan
+    rate = (session.stats.paint_steps - steps0) / elapsed
+    return rate, (time.thread_time() - cpu0) / elapsed, realtime
 
 
 def main() -> None:
@@ -414,10 +420,12 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
     if headless_s > 0:
         with StealMonitor() as headless_steal:
-            headless, headless_cpu = headless_rate(headless_s, tmp / "bench.jsonl")
+            headless, headless_cpu, realtime = headless_rate(headless_s, tmp / "bench.jsonl")
         share = rates["sim_hz"] / headless if headless > 0 else 0.0
         print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %), "
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
+        print(f"headless replay {realtime:7.2f} s per recorded s (real-time ratio of the journal)")
+        figures["headless real-time ratio"] = realtime
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
         if rates["sim_hz"] > 0 and headless > 0 and headless_cpu > 0:

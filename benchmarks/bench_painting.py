@@ -12,7 +12,9 @@ phase holds that part of the read. A last row
 takes the painting window's defaults instead: its new canvas (A4 at 0.1 mm) and brush
 (``round_large``), the default scene with the window's one solver thread (``--window-steps 0``
 skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
-llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files).
+llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files), on
+the stroke file's own canvas, with its real-time ratio (wall seconds per second of the
+recording) and the edge width of the canvas it paints (:mod:`paintapp.canvas.edges`).
 
     python benchmarks/bench_painting.py [--steps N] [--demo-runs N] [--sizes 1024 4096]
                                         [--window-steps N]
@@ -32,6 +34,7 @@ from tqdm import tqdm
 from brushes import BrushPreset
 from paintapp.app.options import PaintOptions
 from paintapp.app.settings import PaintSettings, make_preset, make_scene
+from paintapp.canvas.edges import EdgeWidth, paint_edge_width
 from paintapp.canvas.model import Canvas
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.resources import asset_path
@@ -116,16 +119,17 @@ def bench_render(pixels: int, repeats: int) -> dict[str, float] | None:
             "dirty": 1e3 * t.dirty_64_upload_s, "readback": 1e3 * t.readback_s}  # fmt: skip
 
 
-def bench_demo(runs: int) -> list[float]:
-    """Wall seconds of each whole demo replay."""
+def bench_demo(runs: int) -> tuple[list[float], float, EdgeWidth]:
+    """Wall seconds of each whole demo replay, the recording's length (s), and the edge width
+    of the last replay's canvas (:mod:`paintapp.canvas.edges`)."""
     strokes = read_strokes(asset_path("strokes", "demo.jsonl"))
-    replay(strokes)  # warm-up: compiled kernels, caches
+    result = replay(strokes)  # warm-up: compiled kernels, caches
     times = []
     for _ in range(runs):
         start = time.perf_counter()
-        replay(strokes)
+        result = replay(strokes)
         times.append(time.perf_counter() - start)
-    return times
+    return times, strokes.duration_s, paint_edge_width(result.canvas.paint_m)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -169,9 +173,14 @@ def main(argv: list[str] | None = None) -> int:
                     f"| {pixels}² | {t['render']:.0f} | {t['upload']:.0f} | {t['dirty']:.2f} | {t['readback']:.0f} |"
                 )
     if args.demo_runs > 0:
-        times = bench_demo(args.demo_runs)
+        times, duration_s, edge = bench_demo(args.demo_runs)
         print(f"\nDemo replay (session + servo loop, no files): median {statistics.median(times):.1f} s "
               f"over {len(times)} runs ({', '.join(f'{t:.1f}' for t in times)} s)")  # fmt: skip
+        if duration_s > 0:
+            ratios = [t / duration_s for t in times]
+            print(f"Demo real-time ratio (wall s per recorded s, {duration_s:.1f} s recorded): "
+                  f"median {statistics.median(ratios):.2f} ({', '.join(f'{r:.2f}' for r in ratios)})")  # fmt: skip
+        print(f"Demo canvas {edge.describe()}")
     return 0
 
 

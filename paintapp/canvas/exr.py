@@ -57,11 +57,14 @@ def unlit_rgba(canvas: Canvas, library: PigmentLibrary | None = None) -> np.ndar
 
 
 def _pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
-    """(H, W, C) float32 with rows top first: RGBA, height, wetness, concentrations."""
-    height = canvas.height_m
-    channels = [rgba[..., i] for i in range(4)] + [height, canvas.wetness]
+    """(H, W, C) float32 with rows top first: RGBA, height, wetness, concentrations (each
+    channel copied once, flipped, into its place)."""
+    channels = [rgba[..., i] for i in range(4)] + [canvas.height_m, canvas.wetness]
     channels += list(canvas.concentration)
-    return np.ascontiguousarray(np.stack(channels, axis=-1)[::-1])
+    pixels = np.empty((canvas.height, canvas.width, len(channels)), np.float32)
+    for i, channel in enumerate(channels):
+        pixels[..., i] = channel[::-1]
+    return pixels
 
 
 def write_canvas_exr(

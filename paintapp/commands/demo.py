@@ -6,7 +6,10 @@ dragged through the impasto) through the painting session and the 1 kHz servo lo
 into DIR (default ``paintapp-demo/``): ``canvas.exr`` (the painted canvas with its paint layers),
 ``preview.png``, ``forces.csv`` (the force trace written to the device, one row per servo tick)
 and ``forces.png`` (a plot of it), and ``strokes.jsonl`` (the strokes as painted, on that
-canvas). ``--fidelity``, ``--explain`` and ``--device`` work as for ``paintapp replay``.
+canvas). ``--fidelity``, ``--explain`` and ``--device`` work as for ``paintapp replay``. Its
+summary gives the painting's real-time ratio (the replay's wall time over the recording's
+length: below 1 is faster than the hand that painted it) and the paint's edge width
+(:mod:`paintapp.canvas.edges`).
 
 The demo paints on an artist's sheet: A4 portrait at 0.1 mm texels (2100 x 2970), its strokes
 (written for a 12 x 12 cm canvas) centred on it. ``--canvas-size`` (a paper size such as ``a5``,
@@ -67,6 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from paintapp.canvas.edges import paint_edge_width
     from paintapp.resources import asset_path
     from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
     from paintapp.strokes.files import read_strokes
@@ -100,12 +104,25 @@ def run(args: argparse.Namespace) -> int:
     peak = float(np.linalg.norm(forces[:, 1:4], axis=1).max()) if len(forces) else 0.0
     print(
         f"{stats.paint_steps} paint steps (median {np.median(stats.step_ms or [0.0]):.0f} ms), "
-        f"{len(forces)} servo ticks, peak force {peak:.3g} N"
+        f"{len(forces)} servo ticks, peak force {peak:.3g} N; "
+        f"{realtime(result.wall_s, strokes.duration_s)}"
     )
+    edge = paint_edge_width(result.canvas.paint_m)
+    print(f"paint {edge.describe(result.canvas.texel_size_m[0])}")
     for name in OUTPUT_NAMES:
         print(f"wrote {out / name}")
     print(f"done in {time.perf_counter() - start:.1f} s")
     return 0
+
+
+def realtime(wall_s: float, duration_s: float) -> str:
+    """The painting's real-time ratio in words: wall seconds per second of the recording."""
+    if duration_s <= 0.0:
+        return f"painted in {wall_s:.1f} s (a recording of no length: no real-time ratio)"
+    return (
+        f"painted in {wall_s:.1f} s for {duration_s:.1f} s of strokes "
+        f"({wall_s / duration_s:.2f} s per recorded s)"
+    )
 
 
 def on_canvas(strokes: StrokeFile, size: str, texel_mm: float) -> StrokeFile:

@@ -13,17 +13,24 @@ spectrum with the Jakob & Hanika (2019) sigmoid model (``colour.recovery.XYZ_to_
 it runs offline (once per colour), matches the colour exactly under D65, and gives smooth spectra
 that reach close to 0 and 1, which Kubelka-Munk mixing needs to make clean secondaries. The fit is
 cached per colour, in memory and on disk (see :mod:`paintapp.pigments.spectrum_cache`).
+
+colour-science is imported only to compute what the on-disk cache does not hold yet: the tables
+(colour matching functions, illuminant, RGB matrix) and each colour's spectrum, which are kept
+there as computed, so a cached value is the very value colour-science gave.
 """
 
 from __future__ import annotations
 
 import functools
 
-import colour
-import colour.recovery.jakob2019
 import numpy as np
 
-from paintapp.pigments.spectrum_cache import load_coefficients, store_coefficients
+from paintapp.pigments.spectrum_cache import (
+    load_coefficients,
+    load_table,
+    store_coefficients,
+    store_table,
+)
 
 #: Wavelength samples of every spectrum in this package, nm. Shape (L,) = (81,).
 WAVELENGTHS_NM: np.ndarray = np.arange(380.0, 781.0, 5.0)
@@ -33,15 +40,35 @@ RGB_SPACE_NAME = "sRGB"
 #: Reflectances are kept in [MIN_REFLECTANCE, MAX_REFLECTANCE] so K/S stays finite and positive.
 MIN_REFLECTANCE = 1e-3
 MAX_REFLECTANCE = 0.999
-_SHAPE = colour.SpectralShape(380.0, 780.0, 5.0)
+#: :data:`WAVELENGTHS_NM` as colour-science's spectral shape (start, end, interval), nm.
+_SHAPE_NM = (380.0, 780.0, 5.0)
+_SHAPE_KEY = "380-780-5"
+
+
+def _shape():
+    import colour
+
+    return colour.SpectralShape(*_SHAPE_NM)
 
 
 @functools.cache
 def _cmfs_and_illuminant() -> tuple[np.ndarray, np.ndarray]:
     """(L, 3) colour matching functions and (L,) D65 power on :data:`WAVELENGTHS_NM`."""
-    cmfs = colour.MSDS_CMFS[OBSERVER_NAME].copy().align(_SHAPE)
-    illuminant = colour.SDS_ILLUMINANTS[ILLUMINANT_NAME].copy().align(_SHAPE)
-    return np.asarray(cmfs.values, dtype=np.float64), np.asarray(illuminant.values, np.float64)
+    n = len(WAVELENGTHS_NM)
+    keys = (f"cmfs:{OBSERVER_NAME}:{_SHAPE_KEY}", f"illuminant:{ILLUMINANT_NAME}:{_SHAPE_KEY}")
+    cmfs, illuminant = load_table(keys[0], (n, 3)), load_table(keys[1], (n,))
+    if cmfs is None or illuminant is None:
+        import colour
+
+        cmfs = np.asarray(
+            colour.MSDS_CMFS[OBSERVER_NAME].copy().align(_shape()).values, dtype=np.float64
+        )
+        illuminant = np.asarray(
+            colour.SDS_ILLUMINANTS[ILLUMINANT_NAME].copy().align(_shape()).values, np.float64
+        )
+        store_table(keys[0], cmfs)
+        store_table(keys[1], illuminant)
+    return cmfs, illuminant
 
 
 @functools.cache
@@ -58,7 +85,14 @@ def xyz_weights() -> np.ndarray:
 @functools.cache
 def xyz_to_linear_rgb_matrix() -> np.ndarray:
     """3x3 matrix from CIE XYZ (D65) to linear sRGB / Rec.709 RGB."""
-    return np.asarray(colour.RGB_COLOURSPACES[RGB_SPACE_NAME].matrix_XYZ_to_RGB, np.float64)
+    key = f"xyz_to_rgb:{RGB_SPACE_NAME}"
+    matrix = load_table(key, (3, 3))
+    if matrix is None:
+        import colour
+
+        matrix = np.asarray(colour.RGB_COLOURSPACES[RGB_SPACE_NAME].matrix_XYZ_to_RGB, np.float64)
+        store_table(key, matrix)
+    return matrix
 
 
 @functools.cache
@@ -84,8 +118,12 @@ def srgb_encode(linear: np.ndarray) -> np.ndarray:
     return np.where(c <= 0.0031308, c * 12.92, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
 
 
-@functools.lru_cache(maxsize=256)
-def _jakob_reflectance(srgb: tuple[float, float, float]) -> np.ndarray:
+def _fit_jakob_spectrum(srgb: tuple[float, float, float]) -> np.ndarray:
+    """The Jakob 2019 spectrum of an sRGB colour on :data:`WAVELENGTHS_NM`, unclipped (L,),
+    from the cached coefficients or a new fit (colour-science)."""
+    import colour
+    import colour.recovery.jakob2019
+
     shape = colour.recovery.jakob2019.SPECTRAL_SHAPE_JAKOB2019
     cmfs = colour.MSDS_CMFS[OBSERVER_NAME].copy().align(shape)
     coefficients = load_coefficients(srgb)
@@ -96,7 +134,18 @@ def _jakob_reflectance(srgb: tuple[float, float, float]) -> np.ndarray:
         coefficients = [float(c) for c in found]
         store_coefficients(srgb, coefficients)
     sd = colour.recovery.sd_Jakob2019(np.asarray(coefficients), cmfs.shape)
-    values = np.asarray(sd.copy().align(_SHAPE).values, np.float64)
+    return np.asarray(sd.copy().align(_shape()).values, np.float64)
+
+
+@functools.lru_cache(maxsize=256)
+def _jakob_reflectance(srgb: tuple[float, float, float]) -> np.ndarray:
+    key = f"jakob2019:{OBSERVER_NAME}:{ILLUMINANT_NAME}:{_SHAPE_KEY}:" + ",".join(
+        f"{c:.6f}" for c in srgb
+    )
+    values = load_table(key, WAVELENGTHS_NM.shape)
+    if values is None:
+        values = _fit_jakob_spectrum(srgb)
+        store_table(key, values)
     values = np.clip(values, MIN_REFLECTANCE, MAX_REFLECTANCE)
     values.setflags(write=False)
     return values

@@ -87,15 +87,18 @@ def write_canvas_outputs(
 
 
 def plot_forces(path: str | Path, forces: np.ndarray, title: str = "force on the brush") -> None:
-    """Plot a force trace (force components and magnitude; torque components) to a PNG."""
-    import matplotlib
+    """Plot a force trace (force components and magnitude; torque components) to a PNG.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Drawn on a figure of its own with the Agg canvas, without pyplot (no global figure state,
+    no backend chosen for the process, and 0.05-0.1 s less to import)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     forces = np.asarray(forces, dtype=float).reshape(-1, len(FORCE_COLUMNS))
     t = forces[:, 0]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6), sharex=True, constrained_layout=True)
+    fig = Figure(figsize=(9, 6), constrained_layout=True)
+    FigureCanvasAgg(fig)
+    top, bottom = fig.subplots(2, 1, sharex=True)
     for i, name in enumerate("xyz"):
         top.plot(t, forces[:, 1 + i], lw=0.8, label=f"F{name}")
         bottom.plot(t, 1e3 * forces[:, 4 + i], lw=0.8, label=f"τ{name}")
@@ -109,4 +112,3 @@ def plot_forces(path: str | Path, forces: np.ndarray, title: str = "force on the
         ax.legend(loc="upper right", fontsize=8, ncol=4)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
