@@ -22,7 +22,6 @@ if TYPE_CHECKING:
     from solver.advection.scalars import substeps_for, transport
     from solver.boundary import DomainBoundary, Side
     from solver.compiled.jit import inline_kernel, kernel
-    from solver.compiled.parallel import parallel_section, serial_and_parallel
     from solver.compiled.threads import MAX_THREADS, BesideJob
     from solver.grid import Grid
     from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
@@ -78,8 +77,6 @@ _HOME: dict[str, str] = {
     "transport": "solver.advection.scalars",
     "inline_kernel": "solver.compiled.jit",
     "kernel": "solver.compiled.jit",
-    "parallel_section": "solver.compiled.parallel",
-    "serial_and_parallel": "solver.compiled.parallel",
     "BesideJob": "solver.compiled.threads",
     "MAX_THREADS": "solver.compiled.threads",
     "Scene": "solver.scenes.scene",
@@ -141,10 +138,8 @@ __all__ = [
     "kernel",
     "load_scene",
     "method_keys",
-    "parallel_section",
     "parse_scene",
     "run_scene",
-    "serial_and_parallel",
     "slow_step_warning",
     "substeps_for",
     "surface_force",

@@ -20,11 +20,9 @@ edge column's weights are clipped there. Kernels: :mod:`paintapp.paint.columns_k
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import math
-from collections.abc import Iterator
-from typing import Any, NamedTuple, Protocol
+from typing import Protocol
 
 import numpy as np
 
@@ -34,7 +32,6 @@ from paintapp.canvas.model import MAX_PAINT_M, Canvas
 from paintapp.canvas.regions import Box
 from paintapp.paint import columns_kernels as kernels
 from paintapp.paint.paint_scene import TransferKernel
-from solver import parallel_section
 
 #: Samples per cell of travel that a swept change is averaged over, and at least one a texel
 #: (at most :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is
@@ -95,11 +92,6 @@ class ColumnWindow:
         continuous: the window follows a point exactly, keeping it at the centre of its
             middle cell (its corner anywhere, to a fraction of a texel: :meth:`place` and
             :meth:`recentre_offset`), not by whole cells.
-
-    :attr:`threads` (default 1) is how many threads :meth:`write_back`'s texel passes may use:
-    from 2 on, their kernels' parallel twins on numba's threads, with the same values, bit for
-    bit. (:meth:`gather` stays on the calling thread: a paint step reads the canvas beside the
-    fluid's re-centring, on a thread of its own.)
     """
 
     def __init__(
@@ -119,17 +111,6 @@ class ColumnWindow:
         #: The grid's lower-left corner in texels (whole cells' worth of texels, or anywhere
         #: when ``continuous``).
         self.origin_texel: tuple[float, float] = (0, 0)
-        self.threads = 1
-
-    @contextlib.contextmanager
-    def _passes(self) -> Iterator[bool]:
-        """A block of texel passes: yields whether to call the kernels' parallel twins (within
-        :func:`solver.parallel_section`, which keeps two threads from running them at once)."""
-        if self.threads < 2:
-            yield False
-            return
-        with parallel_section(self.threads) as granted:
-            yield granted > 1
 
     @property
     def cell_size_m(self) -> float:
@@ -292,24 +273,6 @@ class ColumnWindow:
         box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
         wx, wy = self._weights(sub, box)
         shape = texture.weights(box) if texture is not None else None
-        with self._passes() as parallel:
-            self._lay(canvas, (box, wx, wy), (change, owned), shape, sweep_texels, parallel)
-
-    def _lay(
-        self,
-        canvas: Canvas,
-        placed: tuple[tuple[int, int, int, int], AxisWeights, AxisWeights],
-        columns: tuple[np.ndarray, np.ndarray],
-        shape: tuple[np.ndarray, np.ndarray] | None,
-        sweep_texels: tuple[float, float] | None,
-        parallel: bool,
-    ) -> None:
-        """The texel passes of :meth:`write_back` over ``placed`` = (box, x and y weights), for
-        ``columns`` = (change, owned) of the changed columns (texel volumes), the texture's
-        weights ``shape`` (or None), with the kernels' parallel twins when ``parallel``."""
-        box, wx, wy = placed
-        change, owned = columns
-        twin = _PARALLEL if parallel else _SERIAL
         block = (canvas.paint_m, canvas.wetness, box[0], box[1])
         texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
         if shape is None:
@@ -320,46 +283,26 @@ class ColumnWindow:
             texture_w = shape
             first = np.empty_like(owned)
             support = np.empty(owned.shape[1:])
-            twin.texels_to_columns(texels, texture_w, True, first, support)
+            kernels.texels_to_columns(texels, texture_w, True, first, support)
             rates = column_rates(owned, change, support[None], first)
         ny, nx = box[3] - box[1], box[2] - box[0]
         new_mobile = np.empty((owned.shape[0], ny, nx))
         touched = np.empty((ny, nx), dtype=np.bool_)
         total = np.empty((ny, nx))
-        twin.spread_to_texels(
+        kernels.spread_to_texels(
             texels, rates, texture_w, shape is not None, new_mobile, touched, total
         )
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
             travel = (float(sweep_texels[0]), float(sweep_texels[1]))
-            twin.sweep_change(*block, new_mobile, touched, total, *travel, spacing)
+            kernels.sweep_change(*block, new_mobile, touched, total, *travel, spacing)
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)
         bounds = np.zeros(4, np.int64)
-        twin.store_texels(*block, new_mobile, touched, MAX_PAINT_M, bounds)
+        kernels.store_texels(*block, new_mobile, touched, MAX_PAINT_M, bounds)
         if bounds[2] > bounds[0]:
             canvas.mark_dirty(*(int(v) for v in bounds))
-
-
-class _Twins(NamedTuple):
-    """The texel passes that have parallel twins (:mod:`paintapp.paint.columns_kernels`)."""
-
-    texels_to_columns: Any
-    spread_to_texels: Any
-    sweep_change: Any
-    store_texels: Any
-
-
-_SERIAL = _Twins(
-    kernels.texels_to_columns, kernels.spread_to_texels, kernels.sweep_change, kernels.store_texels
-)
-_PARALLEL = _Twins(
-    kernels.texels_to_columns_parallel,
-    kernels.spread_to_texels_parallel,
-    kernels.sweep_change_parallel,
-    kernels.store_texels_parallel,
-)
 
 
 #: Texels' worth of round-off under which a window's edge counts as on a texel boundary.

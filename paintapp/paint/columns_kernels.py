@@ -21,16 +21,11 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import prange
 
-from solver import inline_kernel, kernel, serial_and_parallel
+from solver import inline_kernel, kernel
 
 #: Columns one texel's weights reach on one axis at most.
 TAPS = 3
-
-#: Bands of rows a box's passes are split into (each band a task for numba's threads in the
-#: parallel twins; the serial twins take them one after the other, with the same bits).
-BANDS = 8
 
 #: Most samples along the path that a swept change is averaged over: enough for a sample a
 #: texel along the demo's fastest sub-steps (6.3 texels); each sample is a pass over the box, so
@@ -127,62 +122,49 @@ def _mobile_share(wet):
     return 1.0 if wet >= FULLY_WET else float(wet)
 
 
-def _texels_to_columns(box, texture, textured, out_mobile, out_gain):
+@kernel
+def texels_to_columns(box, texture, textured, out_mobile, out_gain):
     """Weighted sums over the texels of ``box`` (a :class:`TexelBox`) into columns:
     ``out_mobile`` (P, ni, nj) gets the mobile paint (times the loss weights when ``textured``)
     and ``out_gain`` (ni, nj) the gain weights (when ``textured``); ``texture`` is the
     (gain, loss) weights, each (ny, nx). Both are overwritten.
 
-    Each pigment (and the gain weights) on its own (on numba's threads in the parallel twin,
-    :data:`texels_to_columns_parallel`; every sum in the same order either way), per texel row: a
-    run of texels whose weights start at the same column (``k`` of them) sums its three taps in
-    registers and adds them to the row's columns once, instead of a load and a store per tap and
-    texel (each waiting on the last one's)."""
-    n_p = out_mobile.shape[0]
-    out_mobile[:] = 0.0
-    out_gain[:] = 0.0
-    if box.fx.shape[0] == 0:
-        return
-    for q in prange(n_p + 1):
-        if q < n_p:
-            _texels_into(box, texture, textured, q, out_mobile[q])
-        elif textured:
-            _texels_into(box, texture, textured, -1, out_gain)
-
-
-texels_to_columns, texels_to_columns_parallel = serial_and_parallel(_texels_to_columns)
-
-
-@kernel
-def _texels_into(box, texture, textured, p, out):
-    """One pigment's weighted sums of :func:`texels_to_columns` into ``out`` (ni, nj): pigment
-    ``p``'s mobile paint, or the gain weights for ``p = -1``."""
+    Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
+    column (``k`` of them) sums its three taps in registers and adds them to the row's columns
+    once, instead of a load and a store per tap and texel (each waiting on the last one's)."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
     gain_w, loss_w = texture
-    ni = out.shape[0]
+    n_p, ni, _ = out_mobile.shape
     nx, ny = fx.shape[0], fy.shape[0]
-    row = np.zeros(ni + TAPS - 1)  # padded: a texel's zero taps may pass the last column
+    out_mobile[:] = 0.0
+    out_gain[:] = 0.0
+    if nx == 0:
+        return
+    row = np.zeros((n_p, ni + TAPS - 1))  # padded: a texel's zero taps may pass the last column
+    row_g = np.zeros(ni + TAPS - 1)
     share = np.empty(nx)
     for y in range(ny):
         row[:] = 0.0
-        if p < 0:
-            _runs_into(gain_w[y], 0, share, False, fx, tx, row)
-        else:
-            wet_row = wetness[y0 + y]
+        row_g[:] = 0.0
+        wet_row = wetness[y0 + y]
+        for x in range(nx):
+            share[x] = _mobile_share(wet_row[x0 + x])
+        if textured:
+            loss_row = loss_w[y]
             for x in range(nx):
-                share[x] = _mobile_share(wet_row[x0 + x])
-            if textured:
-                loss_row = loss_w[y]
-                for x in range(nx):
-                    share[x] *= loss_row[x]
-            _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row)
+                share[x] *= loss_row[x]
+            _runs_into(gain_w[y], 0, share, False, fx, tx, row_g)
+        for p in range(n_p):
+            _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
         j0 = fy[y]
         for c in range(TAPS):
             w = ty[y, c]
             if w == 0.0:
                 continue
             for i in range(ni):
-                out[i, j0 + c] += w * row[i]
+                for p in range(n_p):
+                    out_mobile[p, i, j0 + c] += w * row[p, i]
+                out_gain[i, j0 + c] += w * row_g[i]
 
 
 @inline_kernel
@@ -229,40 +211,24 @@ def _at_texel(row, p, i0, tx_x):
     return tx_x[0] * row[p, i0] + tx_x[1] * row[p, i0 + 1] + tx_x[2] * row[p, i0 + 2]
 
 
-def _spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
+@kernel
+def spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
     """New mobile paint (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
     :class:`TexelBox`) that changed into ``touched`` (ny, nx) and their new paint (dry + new
     mobile, all pigments) into ``total`` (ny, nx), for ``rates`` = (gain, first, rest): column
     gains and loss fractions (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a
     texel gains ``g * sum w gain`` and loses ``m (b * sum w first + (1 - b) * sum w rest)``
     (``g``, ``b``: the gain and loss weights ``texture`` when ``textured``, else 1 and 1).
-    Reads the canvas only. Row by row in :data:`BANDS` bands (on numba's threads in the parallel
-    twin, :data:`spread_to_texels_parallel`), each texel on its own: both twins give the same
-    bits."""
-    ny = box.fy.shape[0]
-    n_bands = min(ny, BANDS)
-    for band in prange(n_bands):
-        rows = (band * ny // n_bands, (band + 1) * ny // n_bands)
-        _spread_rows(box, rates, texture, textured, (new_mobile, touched, total), rows)
-
-
-spread_to_texels, spread_to_texels_parallel = serial_and_parallel(_spread_to_texels)
-
-
-@kernel
-def _spread_rows(box, rates, texture, textured, out, rows):
-    """Texel rows ``rows`` = (lo, hi) of :func:`spread_to_texels`; ``out`` = (new_mobile,
-    touched, total)."""
+    Reads the canvas only."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
     gain, first, rest = rates
     gain_w, loss_w = texture
-    new_mobile, touched, total = out
     n_p, ni, _ = gain.shape
-    nx = fx.shape[0]
+    nx, ny = fx.shape[0], fy.shape[0]
     row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column
     row_first = np.zeros((n_p, ni + TAPS - 1))
     row_rest = np.zeros((n_p, ni + TAPS - 1))
-    for y in range(rows[0], rows[1]):
+    for y in range(ny):
         _row_values(gain, fy[y], ty[y], row_gain)
         _row_values(first, fy[y], ty[y], row_first)
         if textured:
@@ -432,24 +398,16 @@ def gather_fringe_films(new_mobile, touched, total, floor):
     already unpainted and opens no new hole. Conserved, never negative. Returns the moves."""
     n_p, ny, nx = new_mobile.shape
     gave = 0
-    # Every pass's candidates are among the first's: a texel's paint only falls below the floor
-    # by giving it all away (then it is 0), and only a receiver turns touched.
-    all_y, all_x = [], []
-    for y in range(ny):
-        for x in range(nx):
-            if 0.0 < total[y, x] < floor:
-                all_y.append(y)
-                all_x.append(x)
     while True:
         ys = []
         xs = []
         thin = []
-        for n in range(len(all_y)):
-            y, x = all_y[n], all_x[n]
-            if touched[y, x] and 0.0 < total[y, x] < floor:
-                ys.append(y)
-                xs.append(x)
-                thin.append(total[y, x])
+        for y in range(ny):
+            for x in range(nx):
+                if touched[y, x] and 0.0 < total[y, x] < floor:
+                    ys.append(y)
+                    xs.append(x)
+                    thin.append(total[y, x])
         if len(thin) == 0:
             return gave
         moves = 0
@@ -493,42 +451,16 @@ def gather_fringe_films(new_mobile, touched, total, floor):
         gave += moves
 
 
-def _store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
+@kernel
+def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
     """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
     of the total (0 where the stored float32 paint is 0), as float32; non-finite values become
-    0, paint is clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the
-    touched texels' box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the
-    non-finite count. In :data:`BANDS` bands of rows (on numba's threads in the parallel twin,
-    :data:`store_texels_parallel`): the same values either way."""
-    ny, nx = touched.shape
-    n_bands = min(ny, BANDS)
-    found = np.empty((max(n_bands, 1), 5), np.int64)  # per band: x0, y0, x1, y1, bad
-    for band in prange(n_bands):
-        rows = (band * ny // n_bands, (band + 1) * ny // n_bands)
-        _store_rows((paint, wetness, x0, y0), new_mobile, touched, max_paint, rows, found[band])
-    bx0, by0, bx1, by1, bad = nx, ny, -1, -1, 0
-    for band in range(n_bands):
-        bx0, by0 = min(bx0, found[band, 0]), min(by0, found[band, 1])
-        bx1, by1 = max(bx1, found[band, 2]), max(by1, found[band, 3])
-        bad += found[band, 4]
-    bounds[0], bounds[1] = x0 + bx0, y0 + by0
-    bounds[2], bounds[3] = x0 + bx1 + 1, y0 + by1 + 1
-    return bad
-
-
-store_texels, store_texels_parallel = serial_and_parallel(_store_texels)
-
-
-@kernel
-def _store_rows(canvas, new_mobile, touched, max_paint, rows, found):
-    """Rows ``rows`` = (lo, hi) of :func:`store_texels`; ``canvas`` = (paint, wetness, x0, y0);
-    ``found`` (5,) gets the rows' touched box (x0, y0, x1, y1, inclusive, in the box's texels)
-    and their non-finite count."""
-    paint, wetness, x0, y0 = canvas
+    0, paint is clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
+    box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the non-finite count."""
     n_p, ny, nx = new_mobile.shape
     bad = 0
     bx0, by0, bx1, by1 = nx, ny, -1, -1
-    for y in range(rows[0], rows[1]):
+    for y in range(ny):
         for x in range(nx):
             if not touched[y, x]:
                 continue
@@ -555,7 +487,9 @@ def _store_rows(canvas, new_mobile, touched, max_paint, rows, found):
                 bad += 1
                 share = np.float32(0.0)
             wetness[y0 + y, x0 + x] = min(max(share, np.float32(0.0)), np.float32(1.0))
-    found[0], found[1], found[2], found[3], found[4] = bx0, by0, bx1, by1, bad
+    bounds[0], bounds[1] = x0 + bx0, y0 + by0
+    bounds[2], bounds[3] = x0 + bx1 + 1, y0 + by1 + 1
+    return bad
 
 
 @kernel
@@ -649,19 +583,18 @@ def _path_samples(dx, dy, samples):
 
 
 @kernel
-def _swept(gain, frac, path, gain_s, frac_s, row_sums, lo, hi):
-    """Rows ``lo..hi-1`` of ``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and
-    ``frac`` moved back along the path: ``path`` = (pad_x, pad_y, dx, dy, samples), each field
-    read at ``(k + 1/2) / samples`` of the way along (dx, dy) ahead, bilinearly. The fields are
-    (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side (at least
-    ``|d| + 1``); each row's sum of ``gain_s`` (:func:`_sum`) into ``row_sums[y]``. Row by row,
+def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
+    """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
+    the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
+    fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
+    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
     every sample's reads summed into the row in turn (the row stays in the first-level cache),
     unsigned indices, then the division by ``samples``. (:func:`sweep_change` passes a step's
     gains and losses.)"""
-    pad_x, pad_y, dx, dy, samples = path
-    nx = gain_s.shape[1]
+    ny, nx = gain_s.shape
+    total = 0.0
     offs_i, offs_j, w = _path_samples(dx, dy, samples)
-    for y in range(lo, hi):
+    for y in range(ny):
         g_out, f_out = gain_s[y], frac_s[y]
         for k in range(samples):
             ya = np.uint64(y + pad_y + offs_j[k])
@@ -683,17 +616,18 @@ def _swept(gain, frac, path, gain_s, frac_s, row_sums, lo, hi):
         for x in range(nx):
             g_out[x] /= samples
             f_out[x] /= samples
-        row_sums[y] = _sum(g_out)
+        total += _sum(g_out)
+    return total
 
 
 @kernel
-def _swept_max(field, path, out, lo, hi):
-    """Rows ``lo..hi-1`` of ``out`` (ny, nx) = the largest of ``field``'s values read at the same
-    points as :func:`_swept` reads its fields (``path`` and the padding as there)."""
-    pad_x, pad_y, dx, dy, samples = path
-    nx = out.shape[1]
+def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
+    """``out`` (ny, nx) = the largest of ``field``'s values read at the same points as
+    :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
+    (dx, dy)); ``field`` padded as there. Row by row, as :func:`_swept`."""
+    ny, nx = out.shape
     offs_i, offs_j, w = _path_samples(dx, dy, samples)
-    for y in range(lo, hi):
+    for y in range(ny):
         o_row = out[y]
         for k in range(samples):
             ya = np.uint64(y + pad_y + offs_j[k])
@@ -738,7 +672,8 @@ def _water_fill(frac_s, mobile, scale, lost):
     return scale, taken
 
 
-def _sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing):
+@kernel
+def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing):
     """Lay a step's change of mobile paint along the path the tip swept, in place.
 
     The step changed each texel's mobile paint ``m`` to ``new_mobile`` with the tip at its end
@@ -754,11 +689,7 @@ def _sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, sp
     linear in the change and left a step's teeth; uncapped amounts emptied texels, leaving holes.)
     A pigment whose swept totals miss by more than round-off (the box cut short at the canvas's
     edge), or whose caps cannot take its loss, keeps its unswept change. ``touched`` and ``total``
-    (as :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept.
-
-    Row by row in :func:`bands` of the box (on numba's threads in the parallel twin,
-    :data:`sweep_change_parallel`); every sum is kept per row and added in row order, so both twins
-    give the same bits."""
+    (as :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept."""
     n_p, ny, nx = new_mobile.shape
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:
@@ -775,50 +706,43 @@ def _sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, sp
     cap_n = np.empty(ny * nx)
     mobile = np.empty((ny, nx))
     share = np.empty((ny, nx))
-    row_sums = np.zeros((2, ny))
-    n_bands = min(ny, BANDS)
-    for b in prange(n_bands):
-        for y in range(b * ny // n_bands, (b + 1) * ny // n_bands):
-            for x in range(nx):
-                share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
+    for y in range(ny):
+        for x in range(nx):
+            share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
     done = False
     for p in range(n_p):
-        for b in prange(n_bands):
-            lo, hi = b * ny // n_bands, (b + 1) * ny // n_bands
-            place = (x0, y0, pad_x, pad_y)
-            _change_rows(
-                paint[p],
-                place,
-                (share, mobile, new_mobile[p]),
-                (gain, loss, frac),
-                row_sums,
-                lo,
-                hi,
-            )
-        gained, lost = _in_order(row_sums[0]), _in_order(row_sums[1])
+        gained, lost = 0.0, 0.0
+        for y in range(ny):
+            row = paint[p, y0 + y, x0 : x0 + nx]
+            gain_row = gain[pad_y + y, pad_x : pad_x + nx]
+            loss_row = loss[pad_y + y, pad_x : pad_x + nx]
+            frac_row = frac[pad_y + y, pad_x : pad_x + nx]
+            share_row, mobile_row, new_row = share[y], mobile[y], new_mobile[p, y]
+            for x in range(nx):
+                m = row[x] * share_row[x]
+                mobile_row[x] = m
+                c = new_row[x] - m
+                gain_row[x] = max(c, 0.0)
+                loss_row[x] = max(-c, 0.0)
+                frac_row[x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
+            gained += _sum(gain_row)
+            lost += _sum(loss_row)
         if gained == 0.0 and lost == 0.0:
             continue
-        for b in prange(n_bands):
-            lo, hi = b * ny // n_bands, (b + 1) * ny // n_bands
-            _swept(gain, loss, (pad_x, pad_y, dx, dy, samples), gain_s, frac_s, row_sums[0], lo, hi)
-        swept = _in_order(row_sums[0])
+        swept = _swept(gain, loss, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
-        for b in prange(n_bands):
-            lo, hi = b * ny // n_bands, (b + 1) * ny // n_bands
-            _swept_max(frac, (pad_x, pad_y, dx, dy, samples), cap, lo, hi)
-            for y in range(lo, hi):
-                c_row, f_row, m_row = cap[y], frac_s[y], mobile[y]
-                for x in range(nx):
-                    c = c_row[x] * m_row[x]
-                    c_row[x] = c
-                    f_row[x] = f_row[x] / c if c > 0.0 else 0.0  # the swept loss over the cap
+        _swept_max(frac, pad_x, pad_y, dx, dy, samples, cap)
         n = 0  # the texels that lose paint, gathered for the water-filling's passes
         for y in range(ny):
-            c_row, f_row = cap[y], frac_s[y]
+            c_row, f_row, m_row = cap[y], frac_s[y], mobile[y]
             for x in range(nx):
-                if f_row[x] > 0.0:
-                    ratio_n[n], cap_n[n] = f_row[x], c_row[x]
+                c = c_row[x] * m_row[x]
+                c_row[x] = c
+                r = f_row[x] / c if c > 0.0 else 0.0  # the swept loss over the cap
+                f_row[x] = r
+                if r > 0.0:
+                    ratio_n[n], cap_n[n] = r, c
                     n += 1
         # The first pass of the water-filling (scale 1) also finds the largest ratio: when the
         # scaled ratios stay within 1, no texel reaches its cap and the scale is exact.
@@ -832,76 +756,23 @@ def _sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, sp
                 taken = lost
         if lost > 0.0 and abs(taken - lost) > 1e-9 * lost:
             continue  # the caps meet too little paint: keep the unswept change
-        for b in prange(n_bands):
-            lo, hi = b * ny // n_bands, (b + 1) * ny // n_bands
-            _lay_swept(mobile, (gain_s, frac_s, cap), scale, new_mobile[p], touched, lo, hi)
+        for y in range(ny):
+            f_row, m_row, g_row, c_row = frac_s[y], mobile[y], gain_s[y], cap[y]
+            t_row, new_row = touched[y], new_mobile[p, y]
+            for x in range(nx):
+                m = m_row[x]
+                take = min(scale * f_row[x], 1.0) * c_row[x]
+                new = max(m - take, 0.0) + g_row[x]
+                if new != m:
+                    t_row[x] = True
+                new_row[x] = new
         done = True
     if done:
-        for b in prange(n_bands):
-            for y in range(b * ny // n_bands, (b + 1) * ny // n_bands):
-                for x in range(nx):
-                    dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
-                    t = 0.0
-                    for p in range(n_p):
-                        t += paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
-                    total[y, x] = t
+        for y in range(ny):
+            for x in range(nx):
+                dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
+                t = 0.0
+                for p in range(n_p):
+                    t += paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
+                total[y, x] = t
     return done
-
-
-sweep_change, sweep_change_parallel = serial_and_parallel(_sweep_change)
-
-
-@kernel
-def _in_order(values):
-    """The sum of ``values`` added one after the other (the order a serial pass adds its rows)."""
-    t = 0.0
-    for v in values:
-        t += v
-    return t
-
-
-@kernel
-def _change_rows(paint_p, place, rows, fields, row_sums, lo, hi):
-    """Rows ``lo..hi-1`` of one pigment's step change for :func:`sweep_change`: ``paint_p``
-    (H, W), the canvas's paint of the pigment, read from ``place`` = (x0, y0) on, its fields
-    padded by (pad_x, pad_y), ``place``'s last two; ``rows`` = (share, mobile, new): the
-    texels' mobile shares, their mobile paint (written), and the new mobile paint; ``fields`` =
-    (gain, loss, frac), written; each row's gain and loss sums into ``row_sums`` (2, ny)."""
-    x0, y0, pad_x, pad_y = place
-    share, mobile, new = rows
-    gain, loss, frac = fields
-    nx = share.shape[1]
-    for y in range(lo, hi):
-        row = paint_p[y0 + y, x0 : x0 + nx]
-        gain_row = gain[pad_y + y, pad_x : pad_x + nx]
-        loss_row = loss[pad_y + y, pad_x : pad_x + nx]
-        frac_row = frac[pad_y + y, pad_x : pad_x + nx]
-        share_row, mobile_row, new_row = share[y], mobile[y], new[y]
-        for x in range(nx):
-            m = row[x] * share_row[x]
-            mobile_row[x] = m
-            c = new_row[x] - m
-            gain_row[x] = max(c, 0.0)
-            loss_row[x] = max(-c, 0.0)
-            frac_row[x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
-        row_sums[0, y] = _sum(gain_row)
-        row_sums[1, y] = _sum(loss_row)
-
-
-@kernel
-def _lay_swept(mobile, swept, scale, new, touched, lo, hi):
-    """Rows ``lo..hi-1`` of one pigment's swept change into ``new`` (ny, nx): ``swept`` =
-    (gain_s, ratio, cap), the swept gain, the swept loss over the cap and the cap; a texel takes
-    ``min(scale ratio, 1) cap`` and gains ``gain_s``; ``touched`` where that changes it."""
-    gain_s, ratio, cap = swept
-    nx = mobile.shape[1]
-    for y in range(lo, hi):
-        f_row, m_row, g_row, c_row = ratio[y], mobile[y], gain_s[y], cap[y]
-        t_row, new_row = touched[y], new[y]
-        for x in range(nx):
-            m = m_row[x]
-            take = min(scale * f_row[x], 1.0) * c_row[x]
-            value = max(m - take, 0.0) + g_row[x]
-            if value != m:
-                t_row[x] = True
-            new_row[x] = value

@@ -142,7 +142,6 @@ class PaintGridDepthAveraged(PaintModel):
             return PaintStep(step_ms=clock.total_ms)
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before)[..., 0]
-        self.window.threads = sim.component_threads()
         self.window.write_back(
             self.canvas,
             delta,

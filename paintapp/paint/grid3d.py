@@ -220,7 +220,6 @@ class PaintGrid3D(PaintModel):
         delta = np.zeros_like(outer)
         delta[used] = band
         delta[used, b : b + nx, b : b + ny] += (q - before).sum(axis=3) * h
-        self.outer.threads = sim.component_threads()
         self.outer.write_back(
             self.canvas, delta, texture, gathered=outer, sweep_texels=self.sweep_texels()
         )

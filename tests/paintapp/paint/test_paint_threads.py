@@ -1,7 +1,6 @@
 """The paint grid's step on two threads (the probes' geometry beside the advection, the brush's
 exchange beside the pressure solve, the canvas read beside the re-centring, the pigments'
-transport in groups, the write-back's texel passes): the same paint, brush and forces, bit for
-bit, as on one."""
+transport in groups): the same paint, brush and forces, bit for bit, as on one."""
 
 from __future__ import annotations
 
@@ -10,7 +9,6 @@ import dataclasses
 import numpy as np
 
 from paintapp.canvas.model import Canvas
-from paintapp.paint.columns import ColumnWindow
 from paintapp.paint.grid3d import PaintGrid3D
 from paintapp.paint.paint_scene import load_paint_scene
 from paintapp.session.painting import PaintingSession
@@ -76,48 +74,3 @@ def test_the_canvas_read_beside_a_re_centring_serves_only_the_window_it_was_read
     columns = model._columns()
     assert not np.array_equal(columns, ahead)
     np.testing.assert_array_equal(columns, model.band_columns())
-
-
-class _RandomTexture:
-    """Bristle-like gain and loss weights, random per texel (the same for every call)."""
-
-    def __init__(self, seed: int) -> None:
-        self.rng = np.random.default_rng(seed)
-        self.cache: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray]] = {}
-
-    def weights(self, box):
-        key = tuple(box)
-        if key not in self.cache:
-            shape = (box[3] - box[1], box[2] - box[0])
-            self.cache[key] = (
-                self.rng.uniform(0.2, 2.0, shape),
-                self.rng.uniform(0.05, 1.0, shape),
-            )
-        return self.cache[key]
-
-
-def test_the_write_back_on_two_threads_lays_the_same_paint_bit_for_bit():
-    """The write-back's texel passes (the weighted sums, the spread, the sweep along the path,
-    the store) as their parallel twins, on a box of odd size with gains and losses, a bristle
-    texture and a diagonal sweep: the same canvas, bit for bit, as on one thread."""
-    rng = np.random.default_rng(3)
-    h, w = 97, 131
-    paint = rng.uniform(0.0, 2e-4, (2, h, w)).astype(np.float32)
-    paint[:, :, :20] = 0.0  # bare canvas beside the paint
-    wet = rng.uniform(0.3, 1.0, (h, w)).astype(np.float32)
-    results = []
-    for threads in (1, 2):
-        canvas = Canvas((w, h), (w * 2e-4, h * 2e-4), PIGMENTS[:2], paint.copy(), wet.copy())
-        window = ColumnWindow(canvas, (17, 13), 5, continuous=True)
-        window.origin_texel = (11.37, 9.81)
-        window.threads = threads
-        change = rng.normal(0.0, 3e-5, (2, 17, 13)) if threads == 1 else results[0][2]
-        gathered = window.gather(canvas)
-        window.write_back(
-            canvas, change, _RandomTexture(5), gathered=gathered, sweep_texels=(6.3, -2.7)
-        )
-        results.append((canvas.paint_m.copy(), canvas.wetness.copy(), change))
-    (paint_1, wet_1, _), (paint_2, wet_2, _) = results
-    assert not np.array_equal(paint_1, paint)  # the change was laid
-    assert np.array_equal(paint_1, paint_2)
-    assert np.array_equal(wet_1, wet_2)
