@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TextIO
 
 from common.errors import InputError
 from paintapp.paint.paint_scene import FLUID_MODELS, load_paint_scene
@@ -115,4 +115,22 @@ def run(args: argparse.Namespace) -> int:
     options = options_from_args(args)
     from paintapp.app.launch import run_paint
 
+    announce_compilation()
     return run_paint(options)
+
+
+def announce_compilation(stream: TextIO | None = None) -> bool:
+    """On a cold kernel cache, say on ``stream`` (default stderr), when it is a terminal, that
+    the window's first minute goes to compiling the kernels: its simulation worker compiles
+    them before the first stroke (:mod:`paintapp.app.warmup`), the HUD saying ``preparing the
+    simulation...`` meanwhile. Returns whether it said so."""
+    from paintapp.first_run import MESSAGE, is_terminal, kernels_cold
+
+    stream = stream if stream is not None else sys.stderr
+    if not is_terminal(stream) or not kernels_cold():
+        return False
+    print(
+        f"{MESSAGE}: about a minute, while the window says 'preparing the simulation...'",
+        file=stream,
+    )
+    return True

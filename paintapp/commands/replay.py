@@ -92,12 +92,14 @@ def replay_with_progress(
     outputs: Outputs = (),
     folders: Outputs = (),
 ) -> ReplayResult:
-    """Replay with a progress bar on stderr. Before any work: the scene, the brush presets and
-    pigments the file names, and the ``outputs`` (files) and ``folders`` the command will write
-    (:func:`~paintapp.output_paths.prepare_outputs`) are checked; a truncated file and long
-    pauses are warned about."""
+    """Replay with a progress bar on stderr, after the kernels' first compilation when their
+    cache is cold (:func:`~paintapp.first_run.warm_up`). Before any work: the scene, the brush
+    presets and pigments the file names, and the ``outputs`` (files) and ``folders`` the
+    command will write (:func:`~paintapp.output_paths.prepare_outputs`) are checked; a
+    truncated file and long pauses are warned about."""
     from tqdm import tqdm
 
+    from paintapp.first_run import warm_up
     from paintapp.output_paths import prepare_outputs
     from paintapp.pigments.library import load_pigment_library
     from paintapp.session.playback import check_stroke_names, replay
@@ -124,6 +126,7 @@ def replay_with_progress(
     if len(strokes.gaps) > GAP_WARNINGS_SHOWN:
         more = len(strokes.gaps) - GAP_WARNINGS_SHOWN
         print(f"warning: {strokes.source}: {more} more such pause(s)", file=sys.stderr)
+    warm_up(strokes, scene, fidelity, device)
     with tqdm(
         total=len(strokes.records),
         unit="record",

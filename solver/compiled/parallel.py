@@ -5,7 +5,10 @@ serial kernel and once with ``parallel=True`` (:func:`serial_and_parallel`). A b
 iterations write disjoint entries and read nothing another iteration writes gives the same bits
 either way; reductions (sums) stay serial, their order of addition otherwise split-dependent. The
 twin is a copy of the function named ``<name>_parallel``: numba's on-disk cache keys a kernel by
-qualified name and bytecode, not by compile options.
+qualified name and bytecode, not by compile options. A kernel that picks a twin at run time
+(``if par: ..._parallel(...)``) compiles both; :func:`serial_twin` copies such a driver with
+its parallel callees replaced by the serial ones, for the calls that never run on threads
+(compiling the parallel twins takes seconds each, on a first run).
 
 The twins run on numba's threading layer (OpenMP or TBB where present, else its work queue, which
 must not be entered from two threads at once): :func:`parallel_section` sets how many threads and
@@ -55,6 +58,26 @@ def serial_and_parallel(body: Callable[..., Any]) -> tuple[Any, Any]:
     twin.__doc__ = body.__doc__
     twin.__module__ = body.__module__
     return serial, njit(cache=True, nogil=True, parallel=True)(twin)
+
+
+def serial_twin(kernel: Any, replace: dict[str, Any], suffix: str = "_serial") -> Any:
+    """A copy of the kernel ``kernel`` (compiled as it is: cached, ``nogil``) that calls the
+    kernels ``replace`` names where it names others: called with its parallel twins replaced by
+    their serial selves, a driver whose threads are off (``par_cells`` at :data:`NEVER`) gives
+    the same bits without compiling a parallel kernel (compiling those takes seconds each). The
+    copy is named ``<name><suffix>`` (numba's cache keys a kernel by its qualified name)."""
+    body = kernel.py_func
+    twin = types.FunctionType(
+        body.__code__,
+        {**body.__globals__, **replace},
+        body.__name__ + suffix,
+        body.__defaults__,
+        body.__closure__,
+    )
+    twin.__qualname__ = body.__qualname__ + suffix
+    twin.__doc__ = body.__doc__
+    twin.__module__ = body.__module__
+    return njit(cache=True, nogil=True)(twin)
 
 
 def available_threads() -> int:

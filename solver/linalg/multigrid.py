@@ -27,7 +27,7 @@ import numpy as np
 from numba import prange
 
 from solver.compiled.jit import kernel
-from solver.compiled.parallel import NEVER, parallel_section, serial_and_parallel
+from solver.compiled.parallel import NEVER, parallel_section, serial_and_parallel, serial_twin
 from solver.compiled.timed_choice import TimedChoice
 from solver.compiled.unsigned import U0, U1, U2
 from solver.linalg.pcg import SolveReport, StencilSystem, apply_stencil, apply_stencil_parallel, dot
@@ -396,6 +396,8 @@ def v_cycle(h, r, z, b, x, par_cells=NEVER):
     active, inv, shapes, starts = h.active, h.inv, h.shapes, h.starts
     levels = shapes.shape[0]
     size0 = r.size
+    # the colours as int64, not literals: the sweeps compile once, not once per colour
+    even, odd = np.int64(0), np.int64(1)
     par0 = size0 >= par_cells
     if par0:
         _copy_p(r, b, size0)
@@ -409,23 +411,23 @@ def v_cycle(h, r, z, b, x, par_cells=NEVER):
         # x = b / diag. Written over the whole level, it also fills colour 1, which the next
         # half-sweep overwrites without reading. (The same values as sweeping from zeros.)
         _scale(par, b, inv, x, o, o + cells)
-        _sweep(par, h, o, shape, b, x, 1)
+        _sweep(par, h, o, shape, b, x, odd)
         for _ in range((PRE_SMOOTH if lev < levels - 1 else COARSEST_SWEEPS) - 1):
-            _sweep(par, h, o, shape, b, x, 0)
-            _sweep(par, h, o, shape, b, x, 1)
+            _sweep(par, h, o, shape, b, x, even)
+            _sweep(par, h, o, shape, b, x, odd)
         if lev < levels - 1:
             # the last half-sweep was colour 1: only colour 0 has a residual left
             _residual_restrict(par, h, lev, b, x, 0)
     for _ in range(COARSEST_SWEEPS):
-        _sweep(par, h, o, shape, b, x, 1)
-        _sweep(par, h, o, shape, b, x, 0)
+        _sweep(par, h, o, shape, b, x, odd)
+        _sweep(par, h, o, shape, b, x, even)
     for lev in range(levels - 2, -1, -1):
         o, shape = starts[lev], shapes[lev]
         par = shape[0] * shape[1] * shape[2] >= par_cells
         _prolong_add(par, shapes, starts, lev, x)
         for _ in range(PRE_SMOOTH):
-            _sweep(par, h, o, shape, b, x, 1)
-            _sweep(par, h, o, shape, b, x, 0)
+            _sweep(par, h, o, shape, b, x, odd)
+            _sweep(par, h, o, shape, b, x, even)
     if par0:
         _masked_p(x, active, z, size0)
     else:
@@ -508,6 +510,24 @@ def mgpcg_flat(h, bvec, x, tol, max_iter, work, par_cells=NEVER):
         else:
             _direction_s(s, z, beta, size)
     return it, rnorm / bnorm
+
+
+# mgpcg_flat and every driver below it with each parallel kernel replaced by its serial self: a
+# solve that never runs on threads compiles no parallel kernel (solver.compiled.parallel).
+_SERIAL = {
+    "_sweep_p": _sweep_s,
+    "_restrict_p": _restrict_s,
+    "_prolong_p": _prolong_s,
+    "_scale_p": _scale_s,
+    "_copy_p": _copy_s,
+    "_masked_p": _masked_s,
+    "_cg_step_p": _cg_step_s,
+    "_direction_p": _direction_s,
+    "apply_stencil_parallel": apply_stencil,
+}
+for _driver in (_sweep, _residual_restrict, _prolong_add, _scale, _stencil, v_cycle, mgpcg_flat):
+    _SERIAL[_driver.py_func.__name__] = serial_twin(_driver, _SERIAL)
+mgpcg_flat_serial = _SERIAL["mgpcg_flat"]
 
 
 class Multigrid:
@@ -632,8 +652,10 @@ class Multigrid:
         if on_threads:
             with parallel_section(self.threads):
                 it, res = mgpcg_flat(*args, PARALLEL_MIN_CELLS)
+        elif self.parallel:  # the same compiled kernel as on threads
+            it, res = mgpcg_flat(*args, NEVER)
         else:
-            it, res = mgpcg_flat(*args)
+            it, res = mgpcg_flat_serial(*args)
         if self.parallel and self.adaptive:
             self.choice.record(int(on_threads), (time.perf_counter() - start) / max(int(it), 1))
         self.last_on_threads = on_threads
