@@ -8,13 +8,14 @@ canvas to grid; solver; exchange with the brush; transport; write: grid to canva
 runs within the solver's step (on the other thread beside the pressure solve with two solver
 threads, after it with one): its time is part of the solver's, not added to the step. Likewise
 the canvas's columns are read within the re-centring (beside it with two threads), so the follow
-phase holds that part of the read. A last row
-takes the painting window's defaults instead: its new canvas (A4 at 0.1 mm) and brush
-(``round_large``), the default scene with the window's one solver thread (``--window-steps 0``
-skips it). Canvas render: :func:`paintapp.bench.render_timing.time_render` (Mesa
-llvmpipe here). Demo: the whole ``paintapp demo`` replay (session + servo loop, no files), on
-the stroke file's own canvas, with its real-time ratio (wall seconds per second of the
-recording) and the edge width of the canvas it paints (:mod:`paintapp.canvas.edges`).
+phase holds that part of the read. Two last rows
+take the painting window's defaults instead: its new canvas (A4 at 0.1 mm) and brush
+(``round_large``) with the window's one solver thread, in the window's scene (``live``: the grid
+fitted to the brush) and in the ``default`` scene (``--window-steps 0`` skips them). Canvas
+render: :func:`paintapp.bench.render_timing.time_render` (Mesa llvmpipe here). Demo: the
+``paintapp demo`` replay as that command paints it (its A4 sheet, its scene; session + servo
+loop, no files), with its real-time ratio (wall seconds per second of the recording) and the
+edge width of the canvas it paints (:mod:`paintapp.canvas.edges`).
 
     python benchmarks/bench_painting.py [--steps N] [--demo-runs N] [--sizes 1024 4096]
                                         [--window-steps N]
@@ -36,6 +37,7 @@ from paintapp.app.options import PaintOptions
 from paintapp.app.settings import PaintSettings, make_preset, make_scene
 from paintapp.canvas.edges import EdgeWidth, paint_edge_width
 from paintapp.canvas.model import Canvas
+from paintapp.commands.demo import DEMO_SCENE, DEMO_SHEET, on_canvas
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
@@ -71,10 +73,13 @@ def wet_canvas(pixels: int | tuple[int, int], size_m: tuple[float, float] | None
     return Canvas((w, h), size_m, PIGMENTS, paint, wet)
 
 
-def window_case() -> tuple[Canvas, BrushPreset, PaintScene]:
-    """The painting window's defaults: its new canvas, brush and scene (one solver thread)."""
+def window_case(scene_name: str = "live") -> tuple[Canvas, BrushPreset, PaintScene]:
+    """The painting window's defaults: its new canvas, brush and scene (one solver thread), the
+    bundled scene ``scene_name`` in place of its own (``live``) if named."""
     settings, options = PaintSettings(), PaintOptions()
     canvas = wet_canvas(options.pixels, options.size_m)
+    if scene_name != "live":
+        return canvas, make_preset(settings), make_scene(settings, load_paint_scene(scene_name))
     return canvas, make_preset(settings), make_scene(settings, None)
 
 
@@ -122,12 +127,13 @@ def bench_render(pixels: int, repeats: int) -> dict[str, float] | None:
 def bench_demo(runs: int) -> tuple[list[float], float, EdgeWidth]:
     """Wall seconds of each whole demo replay, the recording's length (s), and the edge width
     of the last replay's canvas (:mod:`paintapp.canvas.edges`)."""
-    strokes = read_strokes(asset_path("strokes", "demo.jsonl"))
-    result = replay(strokes)  # warm-up: compiled kernels, caches
+    strokes = on_canvas(read_strokes(asset_path("strokes", "demo.jsonl")), DEMO_SHEET, 0.1)
+    scene = load_paint_scene(DEMO_SCENE)
+    result = replay(strokes, scene)  # warm-up: compiled kernels, caches
     times = []
     for _ in range(runs):
         start = time.perf_counter()
-        result = replay(strokes)
+        result = replay(strokes, scene)
         times.append(time.perf_counter() - start)
     return times, strokes.duration_s, paint_edge_width(result.canvas.paint_m)
 
@@ -155,8 +161,8 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"| {scene} ({model}) | {pixels}² | {r['cell_mm']:.2f} mm | {r['step']:.1f} | {phases} |"
             )
-    if args.window_steps > 0:
-        case = window_case()
+    for scene_name in ("live", "default") if args.window_steps > 0 else ():
+        case = window_case(scene_name)
         r = bench_step(case[2].name, 0, args.window_steps, case)
         phases = " | ".join(f"{r[p]:.1f}" for p in PHASES)
         w, h = case[0].pixels

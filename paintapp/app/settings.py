@@ -21,8 +21,9 @@ from paintapp.paint.paint_scene import FLUID_MODELS, PaintScene, load_paint_scen
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 
-#: The bundled scene used for each fluid model.
-MODEL_SCENES = {"grid3d": "default", "depth_averaged": "thin_glaze", "none": "no_fluid"}
+#: The bundled scene the window paints with for each fluid model (``live``: the 3D grid fitted to
+#: the brush, at the hand's pace).
+MODEL_SCENES = {"grid3d": "live", "depth_averaged": "thin_glaze", "none": "no_fluid"}
 #: Labels for the controls.
 MODEL_LABELS = {"grid3d": "3D grid", "depth_averaged": "2D depth-averaged", "none": "none"}
 #: Brush size range (scale of the preset).

@@ -6,7 +6,9 @@ dragged through the impasto) through the painting session and the 1 kHz servo lo
 into DIR (default ``paintapp-demo/``): ``canvas.exr`` (the painted canvas with its paint layers),
 ``preview.png``, ``forces.csv`` (the force trace written to the device, one row per servo tick)
 and ``forces.png`` (a plot of it), and ``strokes.jsonl`` (the strokes as painted, on that
-canvas). ``--fidelity``, ``--explain`` and ``--device`` work as for ``paintapp replay``. Its
+canvas). The demo paints as the painting window does, with the ``live`` scene (the 3D grid
+fitted to each brush), unless the stroke file or ``--scene`` names another.
+``--fidelity``, ``--explain`` and ``--device`` work as for ``paintapp replay``. Its
 summary gives the painting's real-time ratio (the replay's wall time over the recording's
 length: below 1 is faster than the hand that painted it) and the paint's edge width
 (:mod:`paintapp.canvas.edges`).
@@ -36,6 +38,9 @@ OUTPUT_NAMES = ("canvas.exr", "preview.png", "forces.csv", "forces.png", "stroke
 #: The demo's sheet unless ``--canvas-size`` names another; ``own`` keeps the file's canvas.
 DEMO_SHEET = "a4"
 OWN_CANVAS = "own"
+#: The scene the demo paints with when neither ``--scene`` nor the stroke file names one: the
+#: painting window's.
+DEMO_SCENE = "live"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -90,7 +95,12 @@ def run(args: argparse.Namespace) -> int:
         f"{spec.size_m[1] * 1e3:g} mm"
     )
     result = replay_with_progress(
-        strokes, args.scene, args.fidelity, args.device, outputs=files, folders=[("--out", out)]
+        strokes,
+        args.scene or (DEMO_SCENE if strokes.header.scene is None else None),
+        args.fidelity,
+        args.device,
+        outputs=files,
+        folders=[("--out", out)],
     )
     if args.explain:
         print_explanation(result, args.fidelity)

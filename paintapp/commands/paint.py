@@ -37,7 +37,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="sim|hid:VID:PID|openhaptics|dhd|haply|none",
         help="haptic device",
     )
-    parser.add_argument("--scene", metavar="SCENE", help="painting scene: a name or a .toml file")
+    parser.add_argument(
+        "--scene",
+        metavar="SCENE",
+        help="painting scene: a name or a .toml file (default: live, the 3D grid fitted to the brush)",
+    )
     parser.add_argument("--record", type=Path, metavar="S.jsonl", help="journal every stroke here")
     parser.add_argument(
         "--overwrite", action="store_true", help="allow --record to replace an existing file"
