@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import time
+from concurrent.futures import ThreadPoolExecutor, wait
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -104,12 +105,23 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.explain:
         print_explanation(result, args.fidelity)
-    write_canvas_outputs(
-        result.canvas, out / "canvas.exr", out / "preview.png", lit=not args.flat, half=args.half
-    )
-    write_forces_csv(out / "forces.csv", result.forces)
-    write_strokes(out / "strokes.jsonl", strokes)
-    plot_forces(out / "forces.png", result.forces, f"force on the brush: {Path(source).name}")
+    # the force plot is drawn on a thread of its own while the canvas's files are written
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="plot") as pool:
+        title = f"force on the brush: {Path(source).name}"
+        plot = pool.submit(plot_forces, out / "forces.png", result.forces, title)
+        try:
+            write_canvas_outputs(
+                result.canvas,
+                out / "canvas.exr",
+                out / "preview.png",
+                lit=not args.flat,
+                half=args.half,
+            )
+            write_forces_csv(out / "forces.csv", result.forces)
+            write_strokes(out / "strokes.jsonl", strokes)
+        finally:
+            wait([plot])  # an error above goes first
+        plot.result()
     stats, forces = result.session.stats, result.forces
     peak = float(np.linalg.norm(forces[:, 1:4], axis=1).max()) if len(forces) else 0.0
     print(

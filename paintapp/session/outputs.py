@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import io
 import sys
+from concurrent.futures import ThreadPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
@@ -76,14 +77,22 @@ def write_canvas_outputs(
     lit: bool = True,
     half: bool = True,
 ) -> None:
-    """Write the canvas EXR and/or a PNG preview (one picture for both)."""
+    """Write the canvas EXR and/or a PNG preview (one picture for both; the preview is encoded on
+    a thread of its own while the EXR is written: both compress with the interpreter lock
+    released)."""
     if exr is None and preview is None:
         return
     rgba = canvas_picture(canvas, lit=lit)
-    if exr is not None:
-        write_canvas_exr(exr, canvas, rgba, half=half)
-    if preview is not None:
-        write_preview_png(preview, rgba)
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="preview") as pool:
+        png = pool.submit(write_preview_png, preview, rgba) if preview is not None else None
+        try:
+            if exr is not None:
+                write_canvas_exr(exr, canvas, rgba, half=half)
+        finally:
+            if png is not None:
+                wait([png])  # an error in the EXR's writing goes first
+        if png is not None:
+            png.result()
 
 
 def plot_forces(path: str | Path, forces: np.ndarray, title: str = "force on the brush") -> None:
