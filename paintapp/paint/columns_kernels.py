@@ -583,22 +583,26 @@ def _path_samples(dx, dy, samples):
 
 
 @kernel
-def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
-    """``gain_s`` and ``frac_s`` (ny, nx) = the means of ``gain`` and ``frac`` moved back along
-    the path (dx, dy): each read at ``(k + 1/2) / samples`` of the way ahead, bilinearly. The
-    fields are (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on every side
-    (at least ``|d| + 1``); returns the sum of ``gain_s`` (row by row, :func:`_sum`). Row by row,
-    every sample's reads summed into the row in turn (the row stays in the first-level cache),
-    unsigned indices, then the division by ``samples``. (:func:`sweep_change` passes a step's
-    gains and losses.)"""
+def _swept_fields(fields, path, gain_s, frac_s, cap):
+    """The step's fields moved back along the path, in one pass over the rows: ``fields`` =
+    (gain, loss, frac), each (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros
+    on every side (at least ``|d| + 1``), ``path`` = (pad_x, pad_y, dx, dy, samples). Each is
+    read at ``(k + 1/2) / samples`` of the way along (dx, dy) ahead, bilinearly: ``gain_s`` and
+    ``frac_s`` (ny, nx) get the means of the gains and of the losses, ``cap`` the largest
+    ``frac`` read. Row by row, every sample's reads summed into the row in turn (the rows stay in
+    the first-level cache), unsigned indices, then the division by ``samples``; returns the sum
+    of ``gain_s``, row by row (:func:`_sum`)."""
+    gain, loss, frac = fields
+    pad_x, pad_y, dx, dy, samples = path
     ny, nx = gain_s.shape
     total = 0.0
     offs_i, offs_j, w = _path_samples(dx, dy, samples)
     for y in range(ny):
-        g_out, f_out = gain_s[y], frac_s[y]
+        g_out, f_out, c_out = gain_s[y], frac_s[y], cap[y]
         for k in range(samples):
             ya = np.uint64(y + pad_y + offs_j[k])
-            ga, gb, fa, fb = gain[ya], gain[ya + np.uint64(1)], frac[ya], frac[ya + np.uint64(1)]
+            yb = ya + np.uint64(1)
+            ga, gb, la, lb, fa, fb = gain[ya], gain[yb], loss[ya], loss[yb], frac[ya], frac[yb]
             w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
             xo = pad_x + offs_i[k]
             if k == 0:
@@ -606,46 +610,22 @@ def _swept(gain, frac, pad_x, pad_y, dx, dy, samples, gain_s, frac_s):
                     xa = np.uint64(x + xo)
                     xb = xa + np.uint64(1)
                     g_out[x] = w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
-                    f_out[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+                    f_out[x] = w00 * la[xa] + w10 * la[xb] + w01 * lb[xa] + w11 * lb[xb]
+                    c_out[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
             else:
                 for x in range(nx):
                     xa = np.uint64(x + xo)
                     xb = xa + np.uint64(1)
                     g_out[x] += w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
-                    f_out[x] += w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+                    f_out[x] += w00 * la[xa] + w10 * la[xb] + w01 * lb[xa] + w11 * lb[xb]
+                    c_out[x] = max(
+                        c_out[x], w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
+                    )
         for x in range(nx):
             g_out[x] /= samples
             f_out[x] /= samples
         total += _sum(g_out)
     return total
-
-
-@kernel
-def _swept_max(field, pad_x, pad_y, dx, dy, samples, out):
-    """``out`` (ny, nx) = the largest of ``field``'s values read at the same points as
-    :func:`_swept` reads its fields (bilinearly, ``(k + 1/2) / samples`` of the way along
-    (dx, dy)); ``field`` padded as there. Row by row, as :func:`_swept`."""
-    ny, nx = out.shape
-    offs_i, offs_j, w = _path_samples(dx, dy, samples)
-    for y in range(ny):
-        o_row = out[y]
-        for k in range(samples):
-            ya = np.uint64(y + pad_y + offs_j[k])
-            fa, fb = field[ya], field[ya + np.uint64(1)]
-            w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
-            xo = pad_x + offs_i[k]
-            if k == 0:
-                for x in range(nx):
-                    xa = np.uint64(x + xo)
-                    xb = xa + np.uint64(1)
-                    o_row[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
-            else:
-                for x in range(nx):
-                    xa = np.uint64(x + xo)
-                    xb = xa + np.uint64(1)
-                    o_row[x] = max(
-                        o_row[x], w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
-                    )
 
 
 @kernel
@@ -696,7 +676,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         return False
     samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
     pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
-    gain = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept`
+    gain = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept_fields`
     loss = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
     frac = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
     gain_s = np.empty((ny, nx))
@@ -729,10 +709,10 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
             lost += _sum(loss_row)
         if gained == 0.0 and lost == 0.0:
             continue
-        swept = _swept(gain, loss, pad_x, pad_y, dx, dy, samples, gain_s, frac_s)
+        path = (pad_x, pad_y, dx, dy, samples)
+        swept = _swept_fields((gain, loss, frac), path, gain_s, frac_s, cap)
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
-        _swept_max(frac, pad_x, pad_y, dx, dy, samples, cap)
         n = 0  # the texels that lose paint, gathered for the water-filling's passes
         for y in range(ny):
             c_row, f_row, m_row = cap[y], frac_s[y], mobile[y]
