@@ -97,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     )
     result = replay_with_progress(
         strokes,
-        args.scene or (DEMO_SCENE if strokes.header.scene is None else None),
+        scene_for(strokes, args.scene),
         args.fidelity,
         args.device,
         outputs=files,
@@ -135,6 +135,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {out / name}")
     print(f"done in {time.perf_counter() - start:.1f} s")
     return 0
+
+
+def scene_for(strokes: StrokeFile, named: str | None) -> str | None:
+    """The scene the demo paints ``strokes`` with: the one ``--scene`` named, else None (the one
+    the file names) where the file names one, else :data:`DEMO_SCENE`."""
+    if named is not None:
+        return named
+    return DEMO_SCENE if strokes.header.scene is None else None
 
 
 def realtime(wall_s: float, duration_s: float) -> str:

@@ -18,7 +18,8 @@ from paintapp.app.settings import PaintSettings, make_preset, make_scene, scaled
 from paintapp.canvas.model import Canvas
 from paintapp.cli import main
 from paintapp.haptics.device import DeviceState
-from paintapp.paint.paint_scene import parse_paint_scene
+from paintapp.paint.fit import fit_grid
+from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import Marker
 
@@ -173,3 +174,16 @@ def test_the_window_steps_the_velocity_components_on_one_thread_unless_a_scene_a
     assert make_scene(settings, None).solver.threads == 1  # auto: the other core draws
     two = parse_paint_scene({"solver": {"threads": 2}}, "x")
     assert make_scene(settings, two).solver.threads == 2  # the scene's own choice stands
+
+
+def test_the_window_paints_live_the_default_paint_on_a_grid_fitted_to_the_brush():
+    settings = PaintSettings()
+    live, default = make_scene(settings, None), load_paint_scene("default")
+    assert live.name == "live" and live.fluid_model == "grid3d"
+    same = ("viscosity_pa_s", "density_kg_m3", "cells", "span", "follow", "sides", "push")
+    assert [getattr(live, k) for k in same] == [getattr(default, k) for k in same]
+    assert live.choose.fit_grid and live.choose.stokes_below_re > 0.0
+    assert not default.choose.fit_grid and default.choose.stokes_below_re == 0.0
+    # the window's brush on its A4 canvas at 0.1 mm: fewer cells of the same size
+    fitted = fit_grid(live, make_preset(settings), 1e-4, "grid3d", 0.3).cells
+    assert fitted[0] < live.cells[0] and fitted[1] < live.cells[1] and fitted[2] < live.cells[2]

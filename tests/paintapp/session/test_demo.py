@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -91,3 +93,16 @@ def test_demo_paints_mixes_and_records_forces(tmp_path):
     assert step_depth < 0.035 and max(f.depth for f in folds) < 0.04
     forces = read_forces_csv(out / "forces.csv")
     assert np.all(np.isfinite(forces)) and np.linalg.norm(forces[:, 1:4], axis=1).max() > 0.01
+
+
+def test_the_demo_paints_with_the_window_s_scene_unless_one_is_named():
+    from paintapp.commands.demo import DEMO_SCENE, scene_for
+
+    strokes = read_strokes(DEMO)
+    assert strokes.header.scene is None and DEMO_SCENE == "live"
+    assert scene_for(strokes, None) == "live"
+    assert scene_for(strokes, "default") == "default"
+    named = dataclasses.replace(
+        strokes, header=dataclasses.replace(strokes.header, scene="thin_glaze")
+    )
+    assert scene_for(named, None) is None  # the file's own scene
