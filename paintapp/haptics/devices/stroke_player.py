@@ -12,6 +12,7 @@ trace the painter would have felt; the trace survives a loop that stopped early.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
@@ -87,6 +88,10 @@ class ReplayDevice:
         self._t0: float | None = None
         self._now = 0.0
         self._forces: list[tuple[float, ...]] = []
+        #: The last orientation computed, with the tilt and twist it was computed from: a
+        #: stroke holds its tilt for many ticks, and the quaternion costs more than the rest of
+        #: a read.
+        self._last_quat: tuple[bytes, np.ndarray] | None = None
 
     @property
     def info(self) -> DeviceInfo:
@@ -133,8 +138,14 @@ class ReplayDevice:
         twist = (1 - a) * self._twist[k] + a * self._twist[j]
         pressure = (1 - a) * self._pressure[k] + a * self._pressure[j]
         buttons = int(self._buttons[j if a >= 1.0 else k])
-        quat = quat_from_tilt_twist(tilt, twist)
-        return DeviceState(now, pos, quat, float(pressure), buttons)
+        return DeviceState(now, pos, self._quat(tilt, twist), float(pressure), buttons)
+
+    def _quat(self, tilt: np.ndarray, twist: float) -> np.ndarray:
+        """:func:`quat_from_tilt_twist`, computed again only when its arguments change."""
+        key = struct.pack("3d", tilt[0], tilt[1], twist)  # bit for bit (a -0.0 is not 0.0)
+        if self._last_quat is None or self._last_quat[0] != key:
+            self._last_quat = (key, quat_from_tilt_twist(tilt, twist))
+        return self._last_quat[1].copy()
 
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:
         if self._t0 is None:
