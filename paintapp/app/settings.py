@@ -17,15 +17,25 @@ from common.errors import InputError
 from paintapp.canvas.model import Canvas
 from paintapp.haptics.channel import ForceChannel
 from paintapp.paint.paint_model import brush_width_m
-from paintapp.paint.paint_scene import FLUID_MODELS, PaintScene, load_paint_scene
+from paintapp.paint.paint_scene import SCENE_FLUID_MODELS, PaintScene, load_paint_scene
 from paintapp.resources import asset_path
 from paintapp.session.painting import PaintingSession
 
 #: The bundled scene the window paints with for each fluid model (``live``: the 3D grid fitted to
 #: the brush, at the hand's pace).
-MODEL_SCENES = {"grid3d": "live", "depth_averaged": "thin_glaze", "none": "no_fluid"}
+MODEL_SCENES = {
+    "grid3d": "live",
+    "depth_averaged": "thin_glaze",
+    "none": "no_fluid",
+    "auto": "auto",
+}
 #: Labels for the controls.
-MODEL_LABELS = {"grid3d": "3D grid", "depth_averaged": "2D depth-averaged", "none": "none"}
+MODEL_LABELS = {
+    "grid3d": "3D grid",
+    "depth_averaged": "2D depth-averaged",
+    "none": "none",
+    "auto": "auto (2D where thin)",
+}
 #: Brush size range (scale of the preset).
 MIN_SCALE, MAX_SCALE = 0.5, 2.0
 #: Viscosity range, Pa s.
@@ -44,7 +54,8 @@ class PaintSettings:
     Attributes:
         brush: preset name.
         brush_scale: size relative to the preset, [0.5, 2].
-        fluid_model: ``grid3d``, ``depth_averaged`` or ``none``.
+        fluid_model: ``grid3d``, ``depth_averaged``, ``none`` or ``auto`` (the 3D or the 2D grid,
+            chosen per sample by the paint's thickness).
         viscosity_pa_s: paint viscosity override, Pa s (None: the scene's).
         load_fraction: how full a dip in a pigment fills the brush, (0, 1] of its capacity.
         force_scale: the haptic force scale, [0, 20].
@@ -62,7 +73,7 @@ class PaintSettings:
             "brush_scale": MIN_SCALE <= self.brush_scale <= MAX_SCALE,
             "load_fraction": 0.0 < self.load_fraction <= 1.0,
             "force_scale": 0.0 <= self.force_scale <= 20.0,
-            "fluid_model": self.fluid_model in FLUID_MODELS,
+            "fluid_model": self.fluid_model in SCENE_FLUID_MODELS,
         }
         v = self.viscosity_pa_s
         checks["viscosity_pa_s"] = v is None or (

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from common.errors import InputError
-from paintapp.paint.paint_scene import FLUID_MODELS, load_paint_scene
+from paintapp.paint.paint_scene import SCENE_FLUID_MODELS, load_paint_scene
 
 if TYPE_CHECKING:
     from paintapp.app.options import PaintOptions
@@ -56,7 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--texel-mm", type=float, default=0.1, metavar="MM", help="texel of a new canvas, mm"
     )
     parser.add_argument("--brush", default="round_large", help="brush preset to start with")
-    parser.add_argument("--model", choices=FLUID_MODELS, help="fluid model to start with")
+    parser.add_argument("--model", choices=SCENE_FLUID_MODELS, help="fluid model to start with")
     parser.add_argument("--force-scale", type=float, default=4.0, help="haptic force scale")
     parser.add_argument(
         "--autosave", type=float, default=60.0, metavar="S", help="autosave interval (0: off)"

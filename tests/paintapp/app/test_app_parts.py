@@ -187,3 +187,20 @@ def test_the_window_paints_live_the_default_paint_on_a_grid_fitted_to_the_brush(
     # the window's brush on its A4 canvas at 0.1 mm: fewer cells of the same size
     fitted = fit_grid(live, make_preset(settings), 1e-4, "grid3d", 0.3).cells
     assert fitted[0] < live.cells[0] and fitted[1] < live.cells[1] and fitted[2] < live.cells[2]
+
+
+def test_the_window_takes_the_auto_scene_and_its_model_control_offers_it():
+    """``paintapp paint --scene auto`` (the 3D or the 2D grid per sample) starts the window in
+    that scene; ``--model auto`` without a scene takes the bundled one."""
+    from paintapp.app.settings import MODEL_LABELS
+    from paintapp.cli import build_parser
+    from paintapp.commands.paint import options_from_args
+
+    options = options_from_args(build_parser().parse_args(["paint", "--scene", "auto"]))
+    assert options.settings.fluid_model == "auto"
+    assert make_scene(options.settings, options.scene).fluid_model == "auto"
+    by_model = options_from_args(build_parser().parse_args(["paint", "--model", "auto"]))
+    assert make_scene(by_model.settings, None).name == "auto"
+    assert "auto" in MODEL_LABELS
+    with pytest.raises(InputError, match="fluid_model"):
+        PaintSettings(fluid_model="stamp")
