@@ -1,7 +1,10 @@
 """The exploration window: a slice of a stored flow, the probe in it and the force it feels.
 
 The slice is a colour map of speed or pressure (S toggles) with velocity arrows; in 3D it is the
-plane through the probe's centre normal to z (the mouse wheel moves the probe in z). The probe
+plane through the probe's centre normal to z (the mouse wheel moves the probe in z). An
+unstructured mesh is shown resampled onto a uniform grid once, when the window opens (grey
+outside the mesh); its force is taken on local grids resampled around the probe on a worker
+thread, never in the window's tick. The probe
 follows the mouse, or the haptic device when one is used (the device's workspace is mapped onto
 the data set's extent). Frames of a time series play in real time and loop (space pauses). The
 force is evaluated about 60 times a second and published to the servo loop, which filters it to
@@ -29,6 +32,8 @@ from PySide6.QtGui import (
 from PySide6.QtWidgets import QWidget
 
 from paintapp.explore.exploration import Exploration, Workspace
+from paintapp.explore.local_resample import display_grid
+from paintapp.explore.unstructured import UnstructuredFlow
 from solver import Ball, FieldForce, frame_pair
 
 #: Device workspace edge the data set's extent is mapped onto, m.
@@ -49,7 +54,9 @@ class ExploreWindow(QWidget):
     ) -> None:
         super().__init__()
         self.exploration = exploration
-        self.flow = exploration.flow
+        flow = exploration.flow
+        self.flow = display_grid(flow) if isinstance(flow, UnstructuredFlow) else flow
+        exploration.use_background_resampling()
         self.publish = publish
         self.device_position = device_position
         self.aim_device = aim_device
@@ -157,6 +164,7 @@ class ExploreWindow(QWidget):
     def closeEvent(self, event: QCloseEvent) -> None:
         """Stop evaluating (and publishing) once the window closes."""
         self.timer.stop()
+        self.exploration.close()
         super().closeEvent(event)
 
     # --- drawing ------------------------------------------------------------------------------

@@ -4,8 +4,13 @@ force and torque published for the servo loop, and the scripted form that writes
 The probe is one-way: it reads the flow and does not change it. Its force is the stress integral
 of the stored fields over its exact surface (:func:`solver.sampled.forces.surface_force`). In 2D the
 force is per unit depth; the probe stands for a body ``depth_m`` deep, so the hand feels
-``depth_m`` times it (N). The device's frame maps onto the data set's by a scale and an offset
+``depth_m`` times it (N); on a 2D mesh one cell thick (a CFD code's 2D case) the depth defaults to
+the mesh's thickness, so that the force compares with the one the code reports. The device's frame maps onto the data set's by a scale and an offset
 (:class:`Workspace`); a scripted path is already in the data set's frame.
+
+On an unstructured mesh (:class:`~paintapp.explore.unstructured.UnstructuredFlow`) the force is
+taken on a local uniform grid resampled around the probe (:mod:`.local_resample`): resampled
+right away in scripted runs, on a worker thread in the window (never in the per-tick path).
 
 Nothing non-finite is published: such a sample (it cannot come from validated data, but the
 check is cheap) is dropped and counted, and the servo loop's watchdog fades the force out.
@@ -20,12 +25,17 @@ import numpy as np
 
 from common import quaternion
 from common.errors import InputError
+from paintapp.explore.local_resample import LocalResampler, ResampleSpec, probe_radius
+from paintapp.explore.unstructured import UnstructuredFlow
 from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.contact import ContactConfig
 from paintapp.haptics.devices.stroke_player import ReplayDevice
 from paintapp.haptics.servo import ServoConfig, ServoLoop
 from solver import Ball, Box, FieldForce, SampledFlow, surface_force, surface_rule
+
+#: A stored flow: on a regular grid, or on an unstructured mesh.
+Flow = SampledFlow | UnstructuredFlow
 
 PROBE_SHAPES = ("circle", "box", "sphere")
 #: Scripted runs evaluate the force this often (a simulation-like rate; the servo filters it).
@@ -66,9 +76,10 @@ class ProbeSpec:
             raise InputError("a circle or sphere takes one size: its diameter (m)", key="--size")
         return Ball(0.5 * float(self.size_m[0]))
 
-    def felt_depth_m(self) -> float:
-        """2D: the depth the per-depth force is multiplied by (default: the probe's size)."""
-        depth = self.depth_m if self.depth_m is not None else max(self.size_m)
+    def felt_depth_m(self, default_m: float | None = None) -> float:
+        """2D: the depth the per-depth force is multiplied by (default: ``default_m``, else the
+        probe's size)."""
+        depth = self.depth_m if self.depth_m is not None else default_m or max(self.size_m)
         if not (math.isfinite(depth) and depth > 0):
             raise InputError(f"expected a depth > 0 (metres), got {depth}", key="--depth")
         return float(depth)
@@ -92,11 +103,17 @@ class Exploration:
         flow: the data set.
         probe: the probe's shape and size.
         quadrature_spacing_m: surface points this far apart (default: half the smallest node
-            spacing, so every cell the surface crosses is sampled).
+            spacing, so every cell the surface crosses is sampled; on a mesh, half its fine
+            cells' size).
+        resample: on a mesh, how the local grid is resampled around the probe.
     """
 
     def __init__(
-        self, flow: SampledFlow, probe: ProbeSpec, quadrature_spacing_m: float | None = None
+        self,
+        flow: Flow,
+        probe: ProbeSpec,
+        quadrature_spacing_m: float | None = None,
+        resample: ResampleSpec | None = None,
     ) -> None:
         self.flow = flow
         self.probe = probe
@@ -111,8 +128,31 @@ class Exploration:
             )
         spacing = quadrature_spacing_m or 0.5 * float(flow.spacing_m.min())
         self.rule = surface_rule(self.shape, flow.dim, spacing)
-        self.depth_m = probe.felt_depth_m() if flow.dim == 2 else 1.0
+        thickness = flow.thickness_m if isinstance(flow, UnstructuredFlow) else None
+        self.depth_m = probe.felt_depth_m(thickness) if flow.dim == 2 else 1.0
         self.dropped = 0
+        self.resampler: LocalResampler | None = None
+        if isinstance(flow, UnstructuredFlow):
+            radius = probe_radius(self.shape, flow.dim)
+            self.resampler = LocalResampler(flow, radius, resample)
+
+    def use_background_resampling(self) -> None:
+        """Resample the mesh around the probe on a worker thread from now on (the window)."""
+        if self.resampler is not None:
+            self.resampler.background = True
+
+    def close(self) -> None:
+        """Stop the resampling thread, if any."""
+        if self.resampler is not None:
+            self.resampler.close()
+
+    def field_at(self, centre_m: np.ndarray) -> SampledFlow:
+        """The grid the force at ``centre_m`` is taken on: the flow itself, or on a mesh the
+        latest local grid around the probe."""
+        if self.resampler is None:
+            assert isinstance(self.flow, SampledFlow)
+            return self.flow
+        return self.resampler.box_for(centre_m).flow
 
     def force_at(
         self, t_s: float, centre_m: np.ndarray, orientation: np.ndarray | float
@@ -120,7 +160,7 @@ class Exploration:
         """The flow's force on the probe at ``centre_m`` (dim,) with ``orientation`` (2D angle,
         3D quaternion) at ``t_s``, per unit depth in 2D."""
         rotation = quaternion.rotation_matrix(self.flow.dim, orientation)
-        return surface_force(self.flow, self.rule, centre_m, rotation, t_s)
+        return surface_force(self.field_at(centre_m), self.rule, centre_m, rotation, t_s)
 
     def felt(self, result: FieldForce) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and torque (N m) on the hand, both (3,), from a :meth:`force_at` result."""
@@ -220,7 +260,7 @@ def run_scripted(
     outside = 0
     flow = exploration.flow
     first, span = float(flow.times_s[0]), float(flow.times_s[-1] - flow.times_s[0])
-    if flow.period_s is not None and not loop:
+    if isinstance(flow, SampledFlow) and flow.period_s is not None and not loop:
         flow = replace(flow, period_s=None, _frames={})  # hold still after the last frame
         exploration = Exploration(flow, exploration.probe)
 

@@ -1,4 +1,6 @@
-"""Reading flows that a CFD tool (or our solver) wrote: NumPy ``.npz`` and VTK structured data.
+"""Reading flows that a CFD tool (or our solver) wrote: NumPy ``.npz`` and VTK structured data
+here; OpenFOAM cases and unstructured VTK (``.vtu``, ``.vtm``, legacy unstructured ``.vtk``,
+``.pvd`` and ``.series`` time series) through :mod:`.load_unstructured`.
 
 Units are SI throughout: metres, seconds, kg/m^3, Pa s, and pressure in Pa (``pressure_units =
 "Pa"``) or, as incompressible solvers such as OpenFOAM write it, kinematic pressure p/rho in
@@ -33,22 +35,28 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from common.errors import InputError
 from common.limits import ARCHIVE_ERRORS, brief, npz_headers
 from paintapp.explore.flow_frame import Frame
+from paintapp.explore.fluid_properties import PRESSURE_UNITS, FluidOverrides
+from paintapp.explore.fluid_properties import given as _given
 from solver import SampledFlow
+
+if TYPE_CHECKING:
+    from paintapp.explore.load_progress import Progress
+    from paintapp.explore.openfoam_case import CaseSelection
+    from paintapp.explore.unstructured import UnstructuredFlow
 
 #: Most nodes a data set may have (a 512^3 grid); more would not fit a haptic session's memory.
 MAX_NODES = 512**3
 #: Most frames in a time series.
 MAX_FRAMES = 10_000
-PRESSURE_UNITS = ("Pa", "m2/s2")
 #: Most values of the small ``.npz`` members, checked on their headers before anything is inflated.
 _MOST_VALUES = {
     "origin": 3,
@@ -62,27 +70,42 @@ _MOST_VALUES = {
 VTK_SUFFIXES = (".vti", ".vtr", ".vtk")
 
 
-@dataclass(frozen=True)
-class FluidOverrides:
-    """Values the command line gives for what a file does not state (None: the file's)."""
-
-    density_kg_m3: float | None = None
-    viscosity_pa_s: float | None = None
-    frame_dt_s: float | None = None
-    pressure_units: str | None = None
+KNOWN = ".npz, .vti, .vtr, .vtk, .vtu, .vtm, .pvd, .series or an OpenFOAM case"
 
 
-def load_flow(paths: Sequence[str | Path], overrides: FluidOverrides | None = None) -> SampledFlow:
-    """The flow in ``paths``: one ``.npz`` (one frame or a series), or one or more VTK files."""
+def load_flow(
+    paths: Sequence[str | Path],
+    overrides: FluidOverrides | None = None,
+    selection: CaseSelection | None = None,
+    progress: Progress | None = None,
+) -> SampledFlow | UnstructuredFlow:
+    """The flow in ``paths``: one ``.npz`` (one frame or a series), one or more VTK files, an
+    OpenFOAM case (its folder or ``.foam`` marker; ``selection`` picks its times, or a series'
+    frame), or unstructured VTK. A grid gives a :class:`~solver.SampledFlow`, a mesh an
+    :class:`~paintapp.explore.unstructured.UnstructuredFlow`; ``progress`` reports long loads."""
     overrides = overrides or FluidOverrides()
     files = [Path(p) for p in paths]
     if not files:
-        raise InputError("no data file given; expected a .npz or VTK file (.vti, .vtr, .vtk)")
+        raise InputError(f"no data file given; expected {KNOWN}")
+    from paintapp.explore.load_unstructured import is_unstructured, load_unstructured
+
+    if len(files) == 1 and files[0].is_dir() and not is_unstructured(files):
+        raise InputError(
+            "is a folder but not an OpenFOAM case (no system/controlDict); expected a data file "
+            "(.npz, .vti, .vtr, .vtk, .vtu, .vtm, .pvd, .series) or a case",
+            str(files[0]),
+        )
     for f in files:
-        if f.is_dir():
-            raise InputError("is a folder; expected a data file (.npz, .vti, .vtr, .vtk)", str(f))
-        if not f.is_file():
+        if not (f.is_file() or (len(files) == 1 and f.is_dir())):
             raise InputError("no such file", source=str(f))
+    if is_unstructured(files):
+        _check_vtk_package(str(files[0]))
+        return load_unstructured(files, overrides, selection, progress)
+    if selection is not None and (selection.time_s is not None or selection.all_times):
+        raise InputError(
+            "--time and --all-times apply to an OpenFOAM case or a .pvd/.series time series",
+            str(files[0]),
+        )
     suffixes = {f.suffix.lower() for f in files}
     if suffixes == {".npz"}:
         if len(files) > 1:
@@ -93,10 +116,18 @@ def load_flow(paths: Sequence[str | Path], overrides: FluidOverrides | None = No
 
         frames = [read_vtk_frame(f) for f in files]
         return _from_frames(frames, overrides, str(files[0]))
-    raise InputError(
-        f"unknown data file type {sorted(suffixes)}; expected .npz, .vti, .vtr or .vtk",
-        source=str(files[0]),
-    )
+    raise InputError(f"unknown data file type {sorted(suffixes)}; expected {KNOWN}", str(files[0]))
+
+
+def _check_vtk_package(source: str) -> None:
+    try:
+        import vtkmodules  # noqa: F401
+    except ImportError:
+        raise InputError(
+            "reading meshes and OpenFOAM cases needs the vtk package: pip install "
+            "'haptic-fluid-paint[cfd]'",
+            source=source,
+        ) from None
 
 
 def _from_npz(path: Path, overrides: FluidOverrides) -> SampledFlow:
@@ -255,20 +286,6 @@ def _build(
         frame.fluid,
         period,
     )
-
-
-def _given(override: float | None, stated: float | None, source: str, key: str, unit: str) -> float:
-    value = override if override is not None else stated
-    if value is None:
-        raise InputError(
-            f"the file does not state the fluid's {key} ({unit}); add it to the file or give "
-            f"--{key}",
-            source,
-            key,
-        )
-    if not (np.isfinite(value) and value > 0):
-        raise InputError(f"expected a finite {key} > 0 ({unit}), got {value!r}", source, key)
-    return float(value)
 
 
 def _numeric(value: Any, source: str, key: str) -> np.ndarray:

@@ -11,6 +11,10 @@ Nodes may be marked as not fluid (inside a body of the data set): their pressure
 the fluid next to them (a few sweeps of neighbour averages), so that a surface lying between
 nodes reads the fluid's pressure, not whatever the file holds inside the body; their velocity is
 the file's (a no-slip body's own velocity), or zero where the file has none (non-finite).
+
+A flow may come with its velocity gradient already sampled (``gradient_per_s``, e.g. taken on
+the unstructured mesh it was resampled from, where the wall is resolved): then that gradient is
+used (extended into non-fluid nodes like the pressure) instead of differences of the velocity.
 """
 
 from __future__ import annotations
@@ -40,6 +44,9 @@ class SampledFlow:
             minus a frame interval after the first): queries wrap around it, and between the last
             frame and the first one period later values are interpolated. None: times outside the
             frames' span are clamped.
+        gradient_per_s: the velocity gradient ``G[i, j] = du_i/dx_j`` as sampled, shape
+            (T, dim, dim, *nodes), 1/s (None: differences of the velocity).
+        cache_frames: how many frames' pressure and gradient :meth:`frame` keeps.
     """
 
     origin_m: np.ndarray
@@ -51,6 +58,8 @@ class SampledFlow:
     viscosity_pa_s: float
     fluid: np.ndarray | None = None
     period_s: float | None = None
+    gradient_per_s: np.ndarray | None = None
+    cache_frames: int = 3
     _frames: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
@@ -77,6 +86,13 @@ class SampledFlow:
             np.isfinite(self.period_s) and self.period_s > self.times_s[-1] - self.times_s[0]
         ):
             raise ValueError("the period must be finite and longer than the frames' span")
+        if self.gradient_per_s is not None and self.gradient_per_s.shape != (
+            len(self.times_s),
+            dim,
+            dim,
+            *nodes,
+        ):
+            raise ValueError("the gradient must have shape (frames, dim, dim, *nodes)")
 
     @property
     def dim(self) -> int:
@@ -95,11 +111,18 @@ class SampledFlow:
         """Pressure (extended into non-fluid nodes) and velocity gradient ``G[i, j] = du_i/dx_j``
         (shape (dim, dim, *nodes)) of frame ``index``; the last few frames are kept."""
         if index not in self._frames:
-            if len(self._frames) >= 3:
+            if len(self._frames) >= max(self.cache_frames, 1):
                 self._frames.pop(next(iter(self._frames)))
             p = self.pressure_pa[index].astype(np.float64)
             u = self.velocity_m_s[index].astype(np.float64)
-            if self.fluid is None:
+            if self.gradient_per_s is not None:
+                grad = self.gradient_per_s[index].astype(np.float64)
+                if self.fluid is not None:
+                    p = extend_into(p, self.fluid)
+                    for i in range(self.dim):
+                        for j in range(self.dim):
+                            grad[i, j] = extend_into(grad[i, j], self.fluid)
+            elif self.fluid is None:
                 grad = np.stack(
                     [
                         np.stack(np.gradient(u[i], *self.spacing_m, edge_order=1))

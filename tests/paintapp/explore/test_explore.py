@@ -13,8 +13,8 @@ from paintapp.cli import main
 from paintapp.explore.exploration import Exploration, ProbeSpec
 from paintapp.explore.flow_export import FlowFrames, write_flow_npz, write_flow_vti
 from paintapp.explore.flow_files import FluidOverrides, load_flow
+from paintapp.explore.force_trace import read_explore_forces_csv
 from paintapp.resources import asset_path
-from paintapp.session.outputs import read_forces_csv
 from solver.scenes.scene import parse_scene
 
 
@@ -154,8 +154,8 @@ def test_scripted_exploration_writes_a_finite_force_trace(tmp_path):
     args = ["explore", str(tmp_path / "grad.npz"), "--path", str(path), "--forces", str(out),
             "--size", "0.2", "--depth", "0.1", "--force-scale", "1"]  # fmt: skip
     assert main(args) == 0
-    trace = read_forces_csv(out)
-    assert len(trace) > 900 and np.all(np.isfinite(trace))
+    trace, fluid = read_explore_forces_csv(out)
+    assert len(trace) > 900 and len(fluid) == len(trace) and np.all(np.isfinite(trace))
     # the force settles at -grad p * area * depth = -100 * pi 0.01 * 0.1 N
     settled = trace[(trace[:, 0] > 0.6) & (trace[:, 0] < 0.95)]
     assert settled[:, 1].mean() == pytest.approx(-100 * np.pi * 0.01 * 0.1, rel=0.02)
