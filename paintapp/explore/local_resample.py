@@ -131,9 +131,7 @@ def cells_meeting(flow: UnstructuredFlow, centre: np.ndarray, half: float) -> np
     # widened by a float32 step so that rounding the boxes cannot drop a cell
     lo32 = np.nextafter(lo3.astype(np.float32), np.float32(-np.inf))
     hi32 = np.nextafter(hi3.astype(np.float32), np.float32(np.inf))
-    return np.flatnonzero(
-        np.all(flow.cell_hi_m >= lo32, axis=1) & np.all(flow.cell_lo_m <= hi32, axis=1)
-    )
+    return flow.cell_index.meeting(lo32, hi32)
 
 
 def _probe(

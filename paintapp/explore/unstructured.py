@@ -25,6 +25,7 @@ import numpy as np
 
 from common.errors import InputError
 from common.limits import check_elements
+from paintapp.explore.cell_index import CellIndex
 from paintapp.explore.cell_samples import CellSamples, cell_samples
 from paintapp.explore.load_progress import Progress
 
@@ -99,6 +100,11 @@ class UnstructuredFlow:
         """The mesh's bounding box in the flow's ``dim`` axes, (dim,) each, metres."""
         bounds = np.array(self.grid.GetBounds(), dtype=float)
         return bounds[0 : 2 * self.dim : 2].copy(), bounds[1 : 2 * self.dim : 2].copy()
+
+    @cached_property
+    def cell_index(self) -> CellIndex:
+        """The cells' boxes bucketed, to find the cells near a probe without a scan."""
+        return CellIndex.build(self.cell_lo_m, self.cell_hi_m)
 
     @cached_property
     def spacing_m(self) -> np.ndarray:
