@@ -5,6 +5,7 @@
                                    [--headless-seconds S] [--bare-seconds S] [--rounds N]
                                    [--json OUT.json]
                                    [--screenshot OUT.png]
+                                   [--zoom fit,100,800]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
 dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events sent
@@ -38,6 +39,16 @@ With a device, each round ends with the machine's own floor (unless ``--bare-sec
 servo process's clock, priority and core with an empty tick, alone for ``--bare-seconds``
 (default ``--seconds``) on the idle machine (:mod:`paintapp.haptics.bare_loop`); a servo stall
 that the bare loop shows as well is the machine's, not the loop's.
+``--zoom`` paints at each of the given views in turn, in the same window, for ``--seconds`` each
+(a comma-separated list or the option repeated; ``fit`` fits the canvas to the window, a number
+is a zoom in percent, 100 showing one canvas texel per device pixel, within 5-1600): it prints
+the frame rate, the frames with changes and the simulation rate at each, and keeps them as
+``frame rate at Z``, ``frames with changes at Z`` and ``simulation rate at Z``. The stroke is
+centred in the view: at ``fit`` the circle above; zoomed in, a circle of 0.3 times the smaller
+side of the canvas area in sight (at most the quarter of the canvas height), so that the paint
+stays on screen; the brush is loaded afresh for each view. The round's other figures (and the
+headless run, which replays the journal from its start) are those of the first view; the
+servo's cover the whole run. Without ``--zoom`` the canvas is fitted (``fit``).
 ``--json`` writes every figure to a file as well (the medians at the top level, each round's
 figures under ``"rounds"``).
 """
@@ -100,11 +111,51 @@ def tablet_sender(widget):
     return send
 
 
-def circle_m(win, t: float) -> tuple[float, float]:
-    """The stroke: a circle of a quarter of the canvas height, once per 3 s."""
+def circle_m(win, t: float, radius_m: float | None = None) -> tuple[float, float]:
+    """The stroke: a circle about the canvas centre, once per 3 s, of radius ``radius_m``
+    (default a quarter of the canvas height)."""
     w, h = win.shared.canvas.size_m
+    r = 0.25 * h if radius_m is None else radius_m
     a = 2.0 * math.pi * t / 3.0
-    return 0.5 * w + 0.25 * h * math.cos(a), 0.5 * h + 0.25 * h * math.sin(a)
+    return 0.5 * w + r * math.cos(a), 0.5 * h + r * math.sin(a)
+
+
+def parse_zooms(values: list[str] | None) -> list[str]:
+    """The ``--zoom`` views: ``fit`` or a zoom in percent (5-1600), in order; default fit."""
+    zooms: list[str] = []
+    for value in values or ["fit"]:
+        for part in value.split(","):
+            part = part.strip().lower().removesuffix("%").strip()
+            if not part:
+                continue
+            if part != "fit":
+                try:
+                    percent = float(part)
+                except ValueError:
+                    raise ValueError(f"--zoom takes fit or a percentage, got {part!r}") from None
+                if not (math.isfinite(percent) and 5.0 <= percent <= 1600.0):
+                    raise ValueError(f"--zoom percentages lie within 5-1600, got {part!r}")
+                part = f"{percent:g}"
+            zooms.append(part)
+    return zooms or ["fit"]
+
+
+def show_zoom(app, win, zoom: str) -> float | None:
+    """Fit the canvas (upright) to the window, then zoom to ``zoom`` percent about the canvas
+    centre unless it is ``fit``; returns the stroke's radius for that view, m (None: the
+    default circle)."""
+    widget = win.canvas_widget
+    widget.nav.fit_to_window()
+    widget.nav.reset_rotation()
+    radius = None
+    if zoom != "fit":
+        widget.nav.zoom_to(float(zoom) / 100.0)
+        x0, y0, x1, y1 = widget.view().visible_box_m()
+        radius = min(0.25 * win.shared.canvas.size_m[1], 0.3 * min(x1 - x0, y1 - y0))
+    for _ in range(20):  # the new view drawn once before the timing
+        app.processEvents()
+        time.sleep(0.01)
+    return radius
 
 
 def process_cpu_s(pid: int | None) -> float | None:
@@ -138,8 +189,11 @@ def worker_cpu_clock(win):
     return lambda: process_cpu_s(pid) or 0.0
 
 
-def paint(app, win, seconds: float) -> dict[str, float | None]:
-    """Paint for ``seconds``; returns the measured rates."""
+def paint(
+    app, win, seconds: float, radius_m: float | None = None, lift: bool = False
+) -> dict[str, float | None]:
+    """Paint for ``seconds`` (a circle of ``radius_m``, see :func:`circle_m`; ``lift``: the pen
+    is lifted at the end); returns the measured rates."""
     from PySide6.QtCore import QEvent
 
     widget = win.canvas_widget
@@ -152,8 +206,9 @@ def paint(app, win, seconds: float) -> dict[str, float | None]:
     cpu0 = (worker_cpu(), time.thread_time(), time.process_time())
     start = time.perf_counter()
     first = True
+    x_m = y_m = 0.0
     while (t := time.perf_counter() - start) < seconds:
-        x_m, y_m = circle_m(win, t)
+        x_m, y_m = circle_m(win, t, radius_m)
         if win.link is not None:
             win.link.target.set(x_m, y_m, 0.8, True)
         else:
@@ -164,6 +219,10 @@ def paint(app, win, seconds: float) -> dict[str, float | None]:
         time.sleep(0.004)
     elapsed = time.perf_counter() - start
     cpu1 = (worker_cpu(), time.thread_time(), time.process_time())
+    if lift and win.link is not None:
+        win.link.target.set(x_m, y_m, 0.0, False)
+    elif lift:
+        send(QEvent.Type.TabletRelease, *widget.mapping().to_widget(x_m, y_m), 0.0)
     servo1 = process_cpu_s(servo_pid)
     servo_cpu = None if servo0 is None or servo1 is None else (servo1 - servo0) / elapsed
     return {
@@ -244,9 +303,16 @@ def main() -> None:
     parser.add_argument("--switch-interval-ms", type=float, default=None,
                         help="the interpreter's switch interval in the app (default: as is)")  # fmt: skip
     parser.add_argument("--screenshot", type=Path, help="save the window here at the end")
+    parser.add_argument("--zoom", action="append", metavar="fit,100,800",
+                        help="paint at each of these views in turn: fit, or a zoom in percent "
+                             "(5-1600; 100: one canvas texel per device pixel); default fit")  # fmt: skip
     args = parser.parse_args()
     if args.rounds < 1 or not args.seconds > 0:
         parser.error("--rounds must be at least 1 and --seconds positive")
+    try:
+        args.zooms = parse_zooms(args.zoom)
+    except ValueError as exc:
+        parser.error(str(exc))
     xvfb = private_display()
     try:
         run(args)
@@ -335,6 +401,10 @@ def summary_table(rounds: list[dict[str, object]], figures: dict[str, object]) -
             continue
         cells = [fmt.format(r[key]) if key in r else "-" for r in rounds]
         lines.append(f"| {key} | {' | '.join(cells)} | {fmt.format(figures[key])} |")
+    for key in figures:
+        if key.startswith(("frame rate at ", "simulation rate at ")):
+            cells = [f"{r[key]:.1f}" if key in r else "-" for r in rounds]
+            lines.append(f"| {key} | {' | '.join(cells)} | {figures[key]:.1f} |")
     return "\n".join(lines)
 
 
@@ -359,10 +429,18 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     wait_until_ready(app, win)
     win.load_pigment("ultramarine_blue")
     win.hud.show_grid = True
+    zooms = getattr(args, "zooms", ["fit"])
+    several = len(zooms) > 1
     with StealMonitor() as window_steal:
-        rates = paint(app, win, args.seconds)
+        rates = paint(app, win, args.seconds, show_zoom(app, win, zooms[0]), lift=several)
     print(f"window {win.canvas_widget.width()}x{win.canvas_widget.height()} px, "
           f"device {args.device}, {rates['seconds']:.1f} s painting")  # fmt: skip
+    if several:
+        figures |= zoom_figures(zooms[0], rates)
+        for zoom in zooms[1:]:
+            radius = show_zoom(app, win, zoom)
+            win.load_pigment("ultramarine_blue")  # a full brush: each view paints wet
+            figures |= zoom_figures(zoom, paint(app, win, args.seconds, radius, lift=True))
     print(f"frame rate      {rates['frame_hz']:7.1f} Hz ({rates['drawn_hz']:.1f} Hz with changes)")
     print(f"simulation rate {rates['sim_hz']:7.1f} paint steps/s")
     servo_cpu = rates["servo_cpu"]
@@ -444,6 +522,19 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     if args.device != "none" and bare_s > 0:
         figures |= bare_loop(bare_s)
     return figures
+
+
+def zoom_figures(zoom: str, rates: dict[str, float | None]) -> dict[str, object]:
+    """Prints and returns the frame and simulation rates measured at view ``zoom``, keyed by
+    the view."""
+    label = "fit" if zoom == "fit" else f"{zoom} %"
+    print(f"at {label:8s} frame rate {rates['frame_hz']:7.1f} Hz ({rates['drawn_hz']:.1f} Hz "
+          f"with changes), simulation rate {rates['sim_hz']:7.1f} paint steps/s")  # fmt: skip
+    return {
+        f"frame rate at {label}": rates["frame_hz"],
+        f"frames with changes at {label}": rates["drawn_hz"],
+        f"simulation rate at {label}": rates["sim_hz"],
+    }
 
 
 def bare_loop(seconds: float) -> dict[str, object]:

@@ -18,6 +18,8 @@ void main() {
 #ifdef FRAGMENT_SHADER
 uniform sampler2DArray u_concentration;   // layer l, channel j: pigment 4 l + j volume fraction
 uniform sampler2D u_surface;              // r: paint height (m), g: wetness [0, 1]
+uniform sampler2D u_tooth;                // r: the canvas surface's tooth height (m), zero-mean
+uniform float u_tooth_relief_m;           // the tooth's peak-to-valley height (0: smooth), m
 uniform vec2 u_canvas_size_m;
 uniform vec2 u_texel_m;                   // texel size, metres
 uniform int u_pigment_count;
@@ -78,11 +80,20 @@ vec3 paint_colour(vec2 uv, float thickness) {
     return rgb;
 }
 
+// Height of the lit surface: the paint over the canvas's tooth, the tooth fading out under paint
+// as thick as its relief (a thick layer hides it; bare and thinly painted tooth shows).
+float lit_height(vec2 uv) {
+    float paint = texture(u_surface, uv).r;
+    if (u_tooth_relief_m <= 0.0) return paint;
+    float cover = clamp(1.0 - max(paint, 0.0) / u_tooth_relief_m, 0.0, 1.0);
+    return paint + cover * texture(u_tooth, uv).r;
+}
+
 vec3 light(vec3 albedo, vec2 uv, float wetness) {
     vec2 du = vec2(1.0, 0.0) / vec2(textureSize(u_surface, 0));
     vec2 dv = vec2(0.0, 1.0) / vec2(textureSize(u_surface, 0));
-    float dhdx = (texture(u_surface, uv + du).r - texture(u_surface, uv - du).r) / (2.0 * u_texel_m.x);
-    float dhdy = (texture(u_surface, uv + dv).r - texture(u_surface, uv - dv).r) / (2.0 * u_texel_m.y);
+    float dhdx = (lit_height(uv + du) - lit_height(uv - du)) / (2.0 * u_texel_m.x);
+    float dhdy = (lit_height(uv + dv) - lit_height(uv - dv)) / (2.0 * u_texel_m.y);
     vec3 n = normalize(vec3(-u_relief * dhdx, -u_relief * dhdy, 1.0));
     // Diffuse relative to a flat surface: flat paint shows its Kubelka-Munk colour unchanged.
     float diffuse = u_ambient + (1.0 - u_ambient) * max(dot(n, u_light_dir), 0.0)

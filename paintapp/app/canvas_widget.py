@@ -7,15 +7,24 @@ owns, into an offscreen 8-bit framebuffer the widget's size. Each pass of the re
 
 1. uploads the display canvas's dirty region, under the shared lock (only for the upload);
 2. finds the widget rectangle that changed: that region on screen, and where the brush outline
-   and the force arrow were and are now (all of it after a resize, a new light or canvas);
+   and the force arrow were and are now (all of it after a resize, a new view, light or canvas);
 3. draws only that rectangle (a GL scissor): minified, the Kubelka-Munk mixing and lighting per
-   window pixel (:meth:`CanvasRenderer.render`); magnified, the cached lit picture
-   (:meth:`CanvasRenderer.render_cached`, which shades each changed texel at most once);
+   window pixel (:meth:`CanvasRenderer.render`); magnified, the cached lit picture, each texel
+   drawn sharp (:meth:`CanvasRenderer.render_cached`, which shades each changed texel in sight
+   at most once);
 4. reads that rectangle back (sRGB-encoded, as in ``preview.png``) into the widget's image and
    asks Qt to repaint just that rectangle.
 
 Qt's raster backing store then puts only the changed pixels on the screen, where a GL widget
 would compose and redraw the whole window every frame (costly on a software rasterizer).
+
+The view (:class:`~paintapp.render.view_transform.CanvasView`: zoom, pan, turn; the gestures
+that change it are :mod:`paintapp.app.navigation`'s) is one object: the pen's position, the drawn
+canvas, the brush outline, the force arrow and the HUD's grid outline all go through it.
+
+A new view redraws the whole widget: the per-pixel path shades each window pixel once, the
+cached path shades only the stale texels in sight, so a frame costs what the screen holds, not
+what the canvas holds.
 """
 
 from __future__ import annotations
@@ -26,15 +35,22 @@ from collections.abc import Callable
 import moderngl
 import numpy as np
 from PySide6.QtCore import QEvent, QRect, Qt
-from PySide6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPaintEvent, QTabletEvent
+from PySide6.QtGui import (
+    QColor,
+    QFocusEvent,
+    QImage,
+    QKeyEvent,
+    QMouseEvent,
+    QNativeGestureEvent,
+    QPainter,
+    QPaintEvent,
+    QTabletEvent,
+    QWheelEvent,
+)
 from PySide6.QtWidgets import QWidget
 
-from paintapp.app.input import (
-    PenState,
-    ViewMapping,
-    pen_from_mouse,
-    pen_from_tablet,
-)
+from paintapp.app.input import PenState, pen_from_mouse, pen_from_tablet
+from paintapp.app.navigation import ViewNavigation
 from paintapp.app.shared import RateMeter, SharedCanvas, WorkerStatus
 from paintapp.canvas.regions import Box, union_box
 from paintapp.pigments.library import PigmentLibrary
@@ -43,14 +59,16 @@ from paintapp.render.context import RenderUnavailable, create_headless_context
 from paintapp.render.finish import gl_finish
 from paintapp.render.headless import render_canvas_rgba
 from paintapp.render.overlays import arrow_triangles, outline_triangles
+from paintapp.render.view_transform import CanvasView
 
 #: Force arrow length on the canvas per newton of (unscaled) fluid force, in canvas widths
 #: (the paint's forces are millinewtons to a few tenths of a newton: 10 mN is a tenth).
 ARROW_WIDTH_PER_N = 10.0
 #: Pixels added around a changed rectangle (filtering, line widths, rounding), device pixels.
 PAD_PX = 3
-#: Coarsest texture reduction for a minified view (canvas texels per texture texel, a side).
-MAX_REDUCTION = 8
+#: Coarsest texture reduction for a minified view (canvas texels per texture texel, a side):
+#: at the 5 % zoom floor (20 texels per device pixel) a pixel still spans at most two texels.
+MAX_REDUCTION = 16
 #: OpenGL enums moderngl has no names for: an sRGB-encoded colour format, and its switch.
 GL_SRGB8_ALPHA8 = 0x8C43
 GL_FRAMEBUFFER_SRGB = 0x8DB9
@@ -101,16 +119,28 @@ class CanvasWidget(QWidget):
         self._drawn: tuple | None = None  # what the whole picture was last drawn for
         self._overlay_box: Box | None = None  # device pixels, y down
         self._overlays_drawn: tuple[list, list] = ([], [])
+        #: the artist's view: zoom, pan and turn, and the gestures that change it
+        self.nav = ViewNavigation(
+            self,
+            lambda: self.shared.canvas.size_m,
+            lambda: float(min(self.shared.canvas.texel_size_m)),
+        )
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setAttribute(Qt.WidgetAttribute.WA_TabletTracking, True)
         self.setAttribute(Qt.WidgetAttribute.WA_OpaquePaintEvent, True)
         self.setMinimumSize(320, 240)
 
+    # --- the view ------------------------------------------------------------------------------
+    def view(self) -> CanvasView:
+        """Where the canvas sits in the widget now (the one widget-to-canvas mapping)."""
+        return self.nav.view()
+
+    def mapping(self) -> CanvasView:
+        """The view (see :meth:`view`)."""
+        return self.nav.view()
+
     # --- geometry ------------------------------------------------------------------------------
-    def mapping(self) -> ViewMapping:
-        """Where the canvas sits in the widget now."""
-        return ViewMapping(self.shared.canvas.size_m, (self.width(), self.height()))
 
     def _device_size(self) -> tuple[int, int]:
         ratio = self.devicePixelRatioF()
@@ -154,7 +184,7 @@ class CanvasWidget(QWidget):
                 uploaded = renderer.update(self.shared.canvas)
                 size_m = self.shared.canvas.size_m
                 texel_m = self.shared.canvas.texel_size_m
-            mapping = ViewMapping(size_m, (self.width(), self.height()))
+            mapping = key[4]
             ratio = size[0] / max(1, self.width())
             outlines, arrows = self._overlays(size_m)
             overlay_box = self._overlay_extent(outlines, arrows, mapping, ratio, size)
@@ -181,16 +211,16 @@ class CanvasWidget(QWidget):
         self.frame_count += 1
 
     def _view_key(self, size: tuple[int, int]) -> tuple:
-        """What the whole picture depends on: its size, the canvas's, the light, and the
-        texture reduction (the largest power of two, at most :data:`MAX_REDUCTION`, of canvas
-        texels per device pixel)."""
+        """What the whole picture depends on: its size, the canvas's, the light, the texture
+        reduction (the largest power of two, at most :data:`MAX_REDUCTION`, of canvas texels per
+        device pixel: a box filter for minified views) and the view."""
         canvas = self.shared.canvas
-        per_pixel = ViewMapping(canvas.size_m, (self.width(), self.height())).metres_per_px
-        texels = per_pixel * self.width() / size[0] / min(canvas.texel_size_m)
+        view = self.view()
+        texels = view.metres_per_px * self.width() / size[0] / min(canvas.texel_size_m)
         reduction = 1
         while reduction < MAX_REDUCTION and 2 * reduction <= texels:
             reduction *= 2
-        return size, canvas.size_m, self.lighting, reduction
+        return size, canvas.size_m, self.lighting, reduction, view
 
     def _up_to_date(self, key: tuple) -> bool:
         """Whether the picture already shows the canvas, the light and the overlays of now."""
@@ -244,7 +274,7 @@ class CanvasWidget(QWidget):
         self,
         box: Box,
         size: tuple[int, int],
-        mapping: ViewMapping,
+        mapping: CanvasView,
         outlines: list,
         arrows: list,
         cached: bool,
@@ -259,7 +289,7 @@ class CanvasWidget(QWidget):
         self.ctx.scissor = gl_box
         try:
             draw = self.renderer.render_cached if cached else self.renderer.render
-            draw(size, mapping.view, outlines, arrows, framebuffer=fbo)
+            draw(size, mapping, outlines, arrows, framebuffer=fbo)
             gl_finish()  # the rasterizer's wait without the interpreter lock
             data = fbo.read(viewport=gl_box, components=4)
         finally:
@@ -301,7 +331,7 @@ class CanvasWidget(QWidget):
     def _overlay_extent(
         outlines: list,
         arrows: list,
-        mapping: ViewMapping,
+        mapping: CanvasView,
         ratio: float,
         size: tuple[int, int],
     ) -> Box | None:
@@ -326,6 +356,9 @@ class CanvasWidget(QWidget):
     # --- input ---------------------------------------------------------------------------------
     def tabletEvent(self, event: QTabletEvent) -> None:
         kind = event.type()
+        if self.nav.drag(kind, event.position(), event.modifiers(), event.button()):
+            event.accept()
+            return
         if kind == QEvent.Type.TabletPress:
             self._tablet_down = True
         elif kind == QEvent.Type.TabletRelease:
@@ -337,6 +370,9 @@ class CanvasWidget(QWidget):
         event.accept()
 
     def _mouse(self, event: QMouseEvent) -> None:
+        if self.nav.drag(event.type(), event.position(), event.modifiers(), event.button()):
+            event.accept()
+            return
         if self._tablet_down:
             return  # the tablet's own events already carry this stroke
         self.on_pen(pen_from_mouse(event, self.mouse_pressure))
@@ -350,6 +386,27 @@ class CanvasWidget(QWidget):
 
     def mouseReleaseEvent(self, event: QMouseEvent) -> None:
         self._mouse(event)
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:
+        if not self.nav.key(event, pressed=True):
+            super().keyPressEvent(event)
+
+    def keyReleaseEvent(self, event: QKeyEvent) -> None:
+        if not self.nav.key(event, pressed=False):
+            super().keyReleaseEvent(event)
+
+    def focusOutEvent(self, event: QFocusEvent) -> None:
+        self.nav.release_keys()  # a key released elsewhere is never seen here
+        super().focusOutEvent(event)
+
+    def wheelEvent(self, event: QWheelEvent) -> None:
+        self.nav.wheel(event)
+
+    def event(self, event: QEvent) -> bool:
+        if event.type() == QEvent.Type.NativeGesture and isinstance(event, QNativeGestureEvent):
+            self.nav.gesture(event)
+            return True
+        return super().event(event)
 
     # --- pictures ------------------------------------------------------------------------------
     def render_picture(self):
@@ -367,13 +424,15 @@ class CanvasWidget(QWidget):
 
 def _metres_box_px(
     box_m: tuple[float, float, float, float],
-    mapping: ViewMapping,
+    mapping: CanvasView,
     ratio: float,
     size: tuple[int, int],
 ) -> Box | None:
-    """Device-pixel box (y down, padded, clipped to ``size``) of a canvas box in metres."""
-    left, top = mapping.to_widget(box_m[0], box_m[3])
-    right, bottom = mapping.to_widget(box_m[2], box_m[1])
+    """Device-pixel box (y down, padded, clipped to ``size``) bounding a canvas box in metres
+    (turned with the view)."""
+    left, top, right, bottom = mapping.widget_box(box_m)
+    if not all(math.isfinite(v) and abs(v) < 1e7 for v in (left, top, right, bottom)):
+        return (0, 0, *size)
     x0 = max(0, math.floor(left * ratio) - PAD_PX)
     y0 = max(0, math.floor(top * ratio) - PAD_PX)
     x1 = min(size[0], math.ceil(right * ratio) + PAD_PX)
@@ -384,7 +443,7 @@ def _metres_box_px(
 
 
 def _texel_box_px(
-    box: Box, texel_m: tuple[float, float], grow: int, mapping: ViewMapping, ratio: float, size
+    box: Box, texel_m: tuple[float, float], grow: int, mapping: CanvasView, ratio: float, size
 ) -> Box | None:
     """Device-pixel box of a canvas texel box grown by ``grow`` texels each way."""
     dx, dy = texel_m

@@ -60,6 +60,8 @@ class Document:
         dialogs: the user interface's file dialogs and messages.
         path: the file the canvas is saved to (None: untitled).
         saved_version: the display canvas version last saved.
+        on_surface: told the surface of each canvas made or opened (the haptic contact follows
+            its tooth); None: nobody listens.
     """
 
     shared: SharedCanvas
@@ -69,6 +71,7 @@ class Document:
     dialogs: FileDialogs
     path: Path | None = None
     saved_version: int = field(default=0)
+    on_surface: Callable[[str], None] | None = None
 
     def set_path(self, path: Path | None) -> None:
         """The file the canvas is saved to."""
@@ -80,10 +83,31 @@ class Document:
         """True when the display canvas changed since the last save."""
         return self.shared.version != self.saved_version
 
-    def new(self) -> None:
-        """Start a blank canvas of the same size (the undo history restarts)."""
-        self.submit(actions.replace_canvas(blank_canvas(self.shared.canvas), "new canvas"))
+    def new(
+        self,
+        pixels: tuple[int, int] | None = None,
+        size_m: tuple[float, float] | None = None,
+        surface: str | None = None,
+    ) -> None:
+        """Start a blank canvas (the undo history restarts): ``pixels`` texels over ``size_m``
+        metres on ``surface`` (:mod:`paintapp.canvas.surfaces`), each the current canvas's
+        where not given. InputError for a bad size or an unknown surface."""
+        like = self.shared.canvas
+        if pixels is None and size_m is None and surface is None:
+            canvas = blank_canvas(like)
+        else:
+            canvas = Canvas(
+                pixels if pixels is not None else like.pixels,
+                size_m if size_m is not None else like.size_m,
+                surface=surface if surface is not None else like.surface,
+            )
+        self.submit(actions.replace_canvas(canvas, f"new canvas ({canvas.surface})"))
         self.set_path(None)
+        self._surface(canvas.surface)
+
+    def _surface(self, surface: str) -> None:
+        if self.on_surface is not None:
+            self.on_surface(surface)
 
     def open(self, path: str | Path | None = None) -> bool:
         """Open a canvas EXR (asks for the file when ``path`` is None); True when opened."""
@@ -99,6 +123,7 @@ class Document:
             return False
         self.submit(actions.replace_canvas(canvas, f"opened {path}"))
         self.set_path(Path(path))
+        self._surface(canvas.surface)
         return True
 
     def save(self, path: str | Path | None = None, ask: bool = False) -> bool:

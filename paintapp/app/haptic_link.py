@@ -191,6 +191,8 @@ class HapticLink:
         armed: the servo process's heartbeat watchdog counts from the start; False: from
             :meth:`arm` (a window arms it once its first frame is drawn and its simulation
             prepared: shader and kernel compilation hold the interpreter lock for seconds).
+        surface: the canvas surface whose tooth the canvas contact follows
+            (:mod:`paintapp.haptics.contact`; :meth:`set_surface` changes it).
     """
 
     def __init__(
@@ -201,6 +203,7 @@ class HapticLink:
         target: PointerTarget | None = None,
         mode: str = "process",
         armed: bool = True,
+        surface: str = "smooth",
     ) -> None:
         if mode not in ("process", "thread"):
             raise InputError(f"expected servo mode process or thread, got {mode!r}", key="servo")
@@ -208,6 +211,7 @@ class HapticLink:
         self.mode = mode
         config = ServoConfig(record=False)
         config = replace(config, fluid=replace(config.fluid, force_scale=force_scale))
+        config = replace(config, contact=replace(config.contact, surface=surface))
         self.process: ServoProcess | None = None
         self.loop: ServoLoop | None = None
         self.report: ServoReport | None = None
@@ -234,6 +238,13 @@ class HapticLink:
             self.granted = self.process.granted
         elif self.loop is not None:
             self.loop.start(self.clock)
+
+    def set_surface(self, surface: str) -> None:
+        """Let the canvas contact follow ``surface``'s tooth from now on (a new canvas)."""
+        if self.process is not None:
+            self.process.set_surface(surface)
+        elif self.loop is not None and hasattr(self.loop, "contact"):
+            self.loop.contact.set_surface(surface)
 
     def arm(self) -> None:
         """The app is up: the servo process's heartbeat watchdog counts from now (the thread

@@ -58,13 +58,14 @@ class RegionEdit:
 
 
 def copy_canvas(canvas: Canvas) -> Canvas:
-    """A deep copy of ``canvas`` (paint, wetness, pigments), with nothing marked dirty."""
+    """A deep copy of ``canvas`` (paint, wetness, pigments, surface), with nothing marked dirty."""
     return Canvas(
         canvas.pixels,
         canvas.size_m,
         canvas.pigment_names,
         canvas.paint_m.copy(),
         canvas.wetness.copy(),
+        canvas.surface,
     )
 
 

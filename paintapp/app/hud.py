@@ -9,7 +9,11 @@ It is a transparent widget laid over the canvas widget (mouse events pass throug
 - the display frame rate;
 - the force and torque on the brush tip, as numbers and as an arrow in a gauge (the in-plane
   force; the felt force is this times the force scale);
-- on request (G) the outline of the paint grid riding with the brush.
+- on request (G) the outline of the paint grid riding with the brush, through the canvas view
+  (turned with the canvas).
+
+It is off by default (H shows it): the status bar carries what an artist needs while painting
+(brush, pigment, zoom and turn).
 """
 
 from __future__ import annotations
@@ -20,11 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRect, QRectF, Qt
-from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QWidget
 
-from paintapp.app.input import ViewMapping
 from paintapp.app.shared import WorkerStatus
+from paintapp.render.view_transform import CanvasView
 
 GAUGE_PX = 70
 #: Newtons at the gauge's rim (the in-plane fluid force, before the force scale).
@@ -86,7 +90,7 @@ class HudOverlay(QWidget):
     Args:
         status: returns the newest worker status.
         data: returns the rest of the HUD's figures.
-        mapping: returns the canvas-to-widget mapping.
+        mapping: returns the canvas view (the canvas-to-widget mapping).
         parent: the canvas widget.
     """
 
@@ -94,13 +98,13 @@ class HudOverlay(QWidget):
         self,
         status: Callable[[], WorkerStatus],
         data: Callable[[], HudData],
-        mapping: Callable[[], ViewMapping],
+        mapping: Callable[[], CanvasView],
         parent: QWidget,
     ) -> None:
         super().__init__(parent)
         self.status, self.data, self.mapping = status, data, mapping
         self.show_grid = False
-        self.show_text = True
+        self.show_text = False
         self.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents, True)
         self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground, True)
         self.setGeometry(parent.rect())
@@ -129,6 +133,10 @@ class HudOverlay(QWidget):
         outline = self._outline(status) if draw_grid else None
         if outline is not None:
             self._draw_grid(painter, outline, area)
+        elif draw_grid:
+            corners = self._corners(status)
+            if corners is not None:
+                self._draw_turned_grid(painter, corners, area)
         if draw_text:
             if self._image is None:
                 self._image, self._panel = self._draw_panel(status)
@@ -179,21 +187,40 @@ class HudOverlay(QWidget):
         whole widget when the mapping gives no sensible outline)."""
         if not self.show_grid or status.grid_m is None:
             return QRect()
-        outline = self._outline(status)
-        return self.rect() if outline is None else outline.adjusted(-3, -3, 3, 3)
+        corners = self._corners(status)
+        if corners is None:
+            return self.rect()
+        return _bounds(corners).adjusted(-3, -3, 3, 3)
 
-    def _outline(self, status: WorkerStatus) -> QRect | None:
-        """The grid outline's rectangle on whole pixels (None when it is not shown, or off any
-        sensible mapping)."""
+    def _corners(self, status: WorkerStatus) -> np.ndarray | None:
+        """The grid's corners in widget pixels (4, 2), in order round it (None when it is not
+        shown, or off any sensible mapping)."""
         if not self.show_grid or status.grid_m is None:
             return None
-        grid = status.grid_m
-        mapping = self.mapping()
-        x0, y1 = mapping.to_widget(grid[0], grid[1])
-        x1, y0 = mapping.to_widget(grid[2], grid[3])
-        if not all(math.isfinite(v) and abs(v) < 1e7 for v in (x0, y0, x1, y1)):
+        corners = self.mapping().corners_px(status.grid_m)
+        if not (np.all(np.isfinite(corners)) and np.abs(corners).max() < 1e7):
             return None
-        return QRectF(QPointF(x0, y0), QPointF(x1, y1)).toAlignedRect()
+        return corners
+
+    def _outline(self, status: WorkerStatus) -> QRect | None:
+        """The grid outline's rectangle on whole pixels while the canvas is upright (or turned
+        by a multiple of 90 degrees); None when it is not shown, off any sensible mapping or
+        turned otherwise (then drawn as a polygon)."""
+        corners = self._corners(status)
+        if corners is None or abs(math.sin(2.0 * self.mapping().angle_rad)) > 1e-9:
+            return None
+        return _bounds(corners)
+
+    def _draw_turned_grid(self, painter: QPainter, corners: np.ndarray, area: QRect) -> None:
+        """The grid outline of a turned canvas: a dashed 1-px polygon, clipped to ``area``."""
+        pen = QPen(GRID_COLOUR, 1)
+        pen.setDashPattern([float(v) for v in GRID_DASH])
+        painter.save()
+        painter.setClipRect(area)
+        painter.setPen(pen)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.drawPolygon(QPolygonF([QPointF(float(x), float(y)) for x, y in corners]))
+        painter.restore()
 
     def _draw_grid(self, painter: QPainter, outline: QRect, area: QRect) -> None:
         """The grid outline where it meets ``area``: a dashed 1-px line along the edges of
@@ -280,3 +307,11 @@ class HudOverlay(QWidget):
         painter.drawLine(centre, tip)
         painter.setBrush(QColor(255, 60, 20))
         painter.drawEllipse(tip, 3, 3)
+
+
+def _bounds(corners: np.ndarray) -> QRect:
+    """The rectangle on whole pixels bounding widget points ``corners`` (N, 2)."""
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    return QRectF(
+        QPointF(float(lo[0]), float(lo[1])), QPointF(float(hi[0]), float(hi[1]))
+    ).toAlignedRect()

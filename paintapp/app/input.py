@@ -1,9 +1,13 @@
-"""Pointer input: tablet and mouse events to stylus samples, and widget pixels to canvas metres.
+"""Pointer input: tablet and mouse events to stylus samples, through the view to canvas metres.
 
 A pen tablet's :class:`QTabletEvent` gives the pressure, the tilt (``xTilt``, ``yTilt`` in
 degrees, positive toward the right and toward the user) and the barrel rotation (degrees,
 clockwise seen from above). In the canvas frame (x right, y up, twist counter-clockwise seen from
 the handle) that is ``tilt = (radians(xTilt), -radians(yTilt))`` and ``twist = -radians(rotation)``.
+
+With the canvas turned on screen (:class:`~paintapp.render.view_transform.CanvasView`, angle
+``a`` counter-clockwise), the pen's position goes through the view, and its tilt and twist, read
+in the screen's frame, are turned by ``-a`` into the canvas's.
 
 The mouse is a stylus without pressure: the left button presses with the set mouse pressure;
 holding Shift presses fully (1.0), holding Alt lightly (a quarter of the set pressure).
@@ -19,10 +23,8 @@ from PySide6.QtCore import QEvent, Qt
 from PySide6.QtGui import QMouseEvent, QTabletEvent
 
 from brushes import StylusSample
-from paintapp.render import ViewRect
+from paintapp.render.view_transform import CanvasView
 
-#: Pixels kept free around the canvas.
-MARGIN_PX = 12
 MAX_TILT_RAD = 0.5 * math.pi - 1e-3
 
 
@@ -51,35 +53,6 @@ class PenState:
     def down(self) -> bool:
         """Whether the pen presses on the canvas."""
         return self.pressure > 0.0
-
-
-class ViewMapping:
-    """The canvas fitted into a widget (aspect kept, centred, ``MARGIN_PX`` free around it).
-
-    Args:
-        canvas_size_m: (w, h) of the canvas, m.
-        widget_px: (W, H) of the widget, logical pixels.
-    """
-
-    def __init__(self, canvas_size_m: tuple[float, float], widget_px: tuple[int, int]) -> None:
-        w_m, h_m = canvas_size_m
-        width, height = max(widget_px[0], 1), max(widget_px[1], 1)
-        free_w, free_h = max(width - 2 * MARGIN_PX, 1), max(height - 2 * MARGIN_PX, 1)
-        self.metres_per_px = max(w_m / free_w, h_m / free_h)
-        self.widget_px = (width, height)
-        half_w, half_h = 0.5 * width * self.metres_per_px, 0.5 * height * self.metres_per_px
-        cx, cy = 0.5 * w_m, 0.5 * h_m
-        self.view = ViewRect(cx - half_w, cy - half_h, cx + half_w, cy + half_h)
-
-    def to_canvas(self, x_px: float, y_px: float) -> tuple[float, float]:
-        """Widget pixel (y down) to canvas metres (y up)."""
-        v = self.view
-        return v.x0_m + x_px * self.metres_per_px, v.y1_m - y_px * self.metres_per_px
-
-    def to_widget(self, x_m: float, y_m: float) -> tuple[float, float]:
-        """Canvas metres to widget pixels."""
-        v = self.view
-        return (x_m - v.x0_m) / self.metres_per_px, (v.y1_m - y_m) / self.metres_per_px
 
 
 def pen_from_tablet(event: QTabletEvent) -> PenState:
@@ -113,14 +86,26 @@ def pen_from_mouse(event: QMouseEvent, mouse_pressure: float) -> PenState:
     return PenState(float(pos.x()), float(pos.y()), pressure, buttons=1 if down else 0)
 
 
-def sample_from_pen(pen: PenState, mapping: ViewMapping) -> StylusSample | None:
-    """The stylus sample (time 0: the worker stamps it) of a pen state; None if unusable."""
-    x_m, y_m = mapping.to_canvas(pen.x_px, pen.y_px)
+def sample_from_pen(pen: PenState, view: CanvasView) -> StylusSample | None:
+    """The stylus sample (time 0: the worker stamps it) of a pen state seen through ``view``;
+    None if unusable."""
+    x_m, y_m = view.to_canvas(pen.x_px, pen.y_px)
     tx, ty = (math.radians(a) for a in pen.tilt_deg)
     twist = -math.radians(pen.rotation_deg)
     values = (x_m, y_m, pen.pressure, tx, ty, twist)
     if not all(math.isfinite(v) for v in values):
         return None
-    tilt = np.clip(np.array([tx, -ty]), -MAX_TILT_RAD, MAX_TILT_RAD)
+    tilt = np.clip(_on_canvas(tx, -ty, view.angle_rad), -MAX_TILT_RAD, MAX_TILT_RAD)
+    if view.angle_rad != 0.0:
+        twist = math.remainder(twist - view.angle_rad, 2.0 * math.pi)
     pressure = min(max(pen.pressure, 0.0), 1.0)
     return StylusSample(0.0, np.array([x_m, y_m, 0.0]), pressure, tilt, twist, pen.buttons)
+
+
+def _on_canvas(tx: float, ty: float, angle_rad: float) -> np.ndarray:
+    """A tilt (x, y) read in the screen's frame (y up), in the frame of a canvas shown turned by
+    ``angle_rad`` counter-clockwise."""
+    if angle_rad == 0.0:
+        return np.array([tx, ty])
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([c * tx + s * ty, -s * tx + c * ty])

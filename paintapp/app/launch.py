@@ -82,16 +82,17 @@ def starting_canvas(
     return blank_canvas(options=options), None, "new canvas"
 
 
-def start_link(options: PaintOptions):
+def start_link(options: PaintOptions, surface: str = "smooth"):
     """The started haptic link: the servo process, or the thread form when asked for or when a
-    process cannot be started (the note says why). DeviceNotFoundError if the device is absent."""
+    process cannot be started (the note says why); its canvas contact follows ``surface``'s
+    tooth. DeviceNotFoundError if the device is absent."""
     from paintapp.app.haptic_link import HapticLink
     from paintapp.haptics.device import DeviceNotFoundError
 
     scale = options.settings.force_scale
     if options.servo == "process":
         # the window arms the heartbeat watchdog once its start-up is over
-        link = HapticLink(options.device, None, scale, mode="process", armed=False)
+        link = HapticLink(options.device, None, scale, mode="process", armed=False, surface=surface)
         try:
             link.start()
             return link
@@ -102,7 +103,7 @@ def start_link(options: PaintOptions):
                 f"servo process unavailable ({exc}); running the servo loop in a thread",
                 file=sys.stderr,
             )
-    link = HapticLink(options.device, None, scale, mode="thread")
+    link = HapticLink(options.device, None, scale, mode="thread", surface=surface)
     link.start()
     return link
 
@@ -122,7 +123,7 @@ def create_window(options: PaintOptions, interactive: bool = True):
     canvas, document, note = starting_canvas(options, library)
     link = None
     if options.device.kind != "none":
-        link = start_link(options)
+        link = start_link(options, canvas.surface)
     try:
         window = PaintWindow(canvas, library, options, link, document, interactive)
     except BaseException:

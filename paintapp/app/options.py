@@ -57,6 +57,6 @@ class PaintOptions:
 def blank_canvas(like: Canvas | None = None, options: PaintOptions | None = None) -> Canvas:
     """A blank canvas the size of ``like`` (or of the options' new canvas)."""
     if like is not None:
-        return Canvas(like.pixels, like.size_m)
+        return Canvas(like.pixels, like.size_m, surface=like.surface)
     opts = options or PaintOptions()
-    return Canvas(opts.pixels, opts.size_m)
+    return Canvas(opts.pixels, opts.size_m, surface=opts.settings.surface)

@@ -15,6 +15,7 @@ from brushes import BrushPreset
 from brushes.presets import list_presets, load_preset_named
 from common.errors import InputError
 from paintapp.canvas.model import Canvas
+from paintapp.canvas.surfaces import SMOOTH, surface_spec
 from paintapp.haptics.channel import ForceChannel
 from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import SCENE_FLUID_MODELS, PaintScene, load_paint_scene
@@ -59,6 +60,7 @@ class PaintSettings:
         viscosity_pa_s: paint viscosity override, Pa s (None: the scene's).
         load_fraction: how full a dip in a pigment fills the brush, (0, 1] of its capacity.
         force_scale: the haptic force scale, [0, 20].
+        surface: the surface of a new canvas (:mod:`paintapp.canvas.surfaces`).
     """
 
     brush: str = "round_large"
@@ -67,8 +69,10 @@ class PaintSettings:
     viscosity_pa_s: float | None = None
     load_fraction: float = 0.6
     force_scale: float = 4.0
+    surface: str = SMOOTH
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "surface", surface_spec(self.surface).name)
         checks = {
             "brush_scale": MIN_SCALE <= self.brush_scale <= MAX_SCALE,
             "load_fraction": 0.0 < self.load_fraction <= 1.0,

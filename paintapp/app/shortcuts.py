@@ -12,7 +12,7 @@ SHORTCUTS: tuple[tuple[str, tuple[str, ...], str], ...] = (
     ("help", ("F1", "?"), "show or hide this help"),
     ("undo", ("Ctrl+Z",), "undo the last stroke"),
     ("redo", ("Ctrl+Shift+Z", "Ctrl+Y"), "redo"),
-    ("new", ("Ctrl+N",), "new blank canvas (same size)"),
+    ("new", ("Ctrl+N",), "new canvas: size, texel and surface"),
     ("open", ("Ctrl+O",), "open a canvas (.exr)"),
     ("save", ("Ctrl+S",), "save the canvas (.exr)"),
     ("save_as", ("Ctrl+Shift+S",), "save the canvas as ..."),
@@ -29,8 +29,15 @@ SHORTCUTS: tuple[tuple[str, tuple[str, ...], str], ...] = (
     ("prev_brush", ("Shift+B",), "previous brush preset"),
     ("smaller", ("[",), "smaller brush"),
     ("larger", ("]",), "larger brush"),
-    ("weaker", ("-",), "lower the force scale"),
-    ("stronger", ("=", "+"), "raise the force scale"),
+    ("weaker", (",",), "lower the force scale"),
+    ("stronger", (".",), "raise the force scale"),
+    ("zoom_in", ("+", "=", "Ctrl+="), "zoom in (about the pointer), up to 1600 %"),
+    ("zoom_out", ("-", "Ctrl+-"), "zoom out (about the pointer), down to 5 %"),
+    ("fit", ("F", "Ctrl+0"), "fit the canvas to the window"),
+    ("actual", ("Ctrl+1",), "100 %: one canvas texel per screen pixel"),
+    ("turn", ("Ctrl+R",), "turn the canvas 15 degrees counter-clockwise"),
+    ("turn_back", ("Ctrl+Shift+R",), "turn the canvas 15 degrees clockwise"),
+    ("upright", ("Shift+R",), "turn the canvas upright again"),
     ("model", ("M",), "next fluid model (3D grid, 2D depth-averaged, none)"),
     ("grid", ("G",), "show the paint grid around the brush"),
     ("hud", ("H",), "show or hide the HUD"),
@@ -42,6 +49,12 @@ SHORTCUTS: tuple[tuple[str, tuple[str, ...], str], ...] = (
 
 MOUSE_HELP = (
     ("left drag", "paint (mouse pressure from the controls)"),
+    ("wheel / Ctrl + wheel", "zoom about the pointer"),
+    ("pinch", "zoom (touchpad); a two-finger twist turns the canvas"),
+    ("two-finger scroll", "pan (touchpad)"),
+    ("Space + drag", "pan (mouse or pen)"),
+    ("middle drag", "pan"),
+    ("R + drag", "turn the canvas (also Shift + Space + drag)"),
     ("Shift + drag", "paint at full pressure"),
     ("Alt + drag", "paint lightly"),
     ("pen tablet", "pressure, tilt and twist shape the brush"),
@@ -53,8 +66,8 @@ MOUSE_HELP = (
 def help_rows() -> list[tuple[str, str]]:
     """(keys, what) rows of the help overlay."""
     rows = [
-        (f"{keys[0]} .. {keys[-1]}" if len(keys) > 3 else " / ".join(keys), text)
-        for _, keys, text in SHORTCUTS
+        (f"{keys[0]} .. {keys[-1]}" if name == "pigment" else " / ".join(keys), text)
+        for name, keys, text in SHORTCUTS
     ]
     return rows + list(MOUSE_HELP)
 

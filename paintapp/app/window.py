@@ -13,6 +13,7 @@ Threads (none waits on another; they exchange the latest state):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -21,7 +22,14 @@ from typing import Any
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QFileDialog, QMainWindow, QMessageBox, QScrollArea
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QScrollArea,
+)
 
 from paintapp.app import actions
 from paintapp.app.canvas_widget import CanvasWidget
@@ -32,6 +40,8 @@ from paintapp.app.history import copy_canvas
 from paintapp.app.hud import HudData, HudOverlay
 from paintapp.app.input import PenState, sample_from_pen
 from paintapp.app.journal import Journal
+from paintapp.app.navigation import KEY_ZOOM
+from paintapp.app.new_canvas_dialog import ask_new_canvas, follow_surface
 from paintapp.app.options import PaintOptions
 from paintapp.app.recovery import Recovery
 from paintapp.app.settings import (
@@ -45,6 +55,7 @@ from paintapp.app.settings import (
 from paintapp.app.shared import SharedCanvas
 from paintapp.app.shortcuts import SHORTCUTS, HelpOverlay
 from paintapp.app.sim_process import SimulationProcess, simulation_mode
+from paintapp.app.view_status import view_status_text
 from paintapp.app.worker import SimulationWorker
 from paintapp.canvas.model import Canvas
 from paintapp.pigments.library import PigmentLibrary
@@ -53,6 +64,8 @@ from paintapp.render import Lighting
 #: The HUD repaints every this many frames (10 times a second at the default frame period):
 #: its figures are read, not watched, and its painting holds the interpreter lock.
 HUD_EVERY_FRAMES = 6
+#: Turn of the canvas per key press (Ctrl+R, Ctrl+Shift+R), radians.
+TURN_STEP_RAD = math.radians(15.0)
 
 
 class PaintWindow(QMainWindow):
@@ -111,10 +124,12 @@ class PaintWindow(QMainWindow):
         self._armed = False
         self._fault_seen = False
         self._slab_seq = 0
+        self.pigment_label = "none"  # what the brush was last loaded with (the status bar)
         self._build_widgets()
         self.document = Document(
             self.shared, library, self.worker.submit, self.picture_for, _WindowDialogs(self)
         )
+        self.document.on_surface = follow_surface(link)
         self._build_actions()
         self._start_timers()
         self.document.set_path(document)
@@ -127,6 +142,10 @@ class PaintWindow(QMainWindow):
             self.shared, self.library, self.worker.status.get, self.on_pen
         )
         self.setCentralWidget(self.canvas_widget)
+        self.view_label = QLabel()
+        self.statusBar().addPermanentWidget(self.view_label)
+        self.canvas_widget.nav.on_view = self.show_view_status
+        self.canvas_widget.setFocus()  # Space and R (held for a pan or a turn) reach the canvas
         self.hud = HudOverlay(
             self.worker.status.get, self.hud_data, self.canvas_widget.mapping, self.canvas_widget
         )
@@ -161,7 +180,7 @@ class PaintWindow(QMainWindow):
             "help": lambda: self.help.setVisible(not self.help.isVisible()),
             "undo": self.undo,
             "redo": self.redo,
-            "new": self.document.new,
+            "new": lambda: ask_new_canvas(self),
             "open": self.document.open,
             "save": self.document.save,
             "save_as": lambda: self.document.save(ask=True),
@@ -181,6 +200,13 @@ class PaintWindow(QMainWindow):
             "light": lambda: self.turn_light(15.0),
             "light_back": lambda: self.turn_light(-15.0),
             "controls": lambda: self.dock.setVisible(not self.dock.isVisible()),
+            "zoom_in": lambda: self.canvas_widget.nav.zoom_by(KEY_ZOOM),
+            "zoom_out": lambda: self.canvas_widget.nav.zoom_by(1 / KEY_ZOOM),
+            "fit": self.canvas_widget.nav.fit_to_window,
+            "actual": lambda: self.canvas_widget.nav.zoom_to(1.0),
+            "turn": lambda: self.canvas_widget.nav.rotate_by(TURN_STEP_RAD),
+            "turn_back": lambda: self.canvas_widget.nav.rotate_by(-TURN_STEP_RAD),
+            "upright": self.canvas_widget.nav.reset_rotation,
             "quit": self.close,
         }
 
@@ -234,6 +260,7 @@ class PaintWindow(QMainWindow):
             self._armed = True
             self.link.arm()
         if self._frame % HUD_EVERY_FRAMES == 0:
+            self.show_view_status()
             self.hud.refresh()
             if self.help.isVisible():
                 self.help.update()
@@ -258,6 +285,16 @@ class PaintWindow(QMainWindow):
         if seq != self._slab_seq and slab is not None:
             self._slab_seq = seq
             self.controls.slab.show_canvas(slab)
+
+    def show_view_status(self) -> None:
+        """The status bar's permanent part: brush, pigment, zoom and turn."""
+        nav = self.canvas_widget.nav
+        s = self.settings
+        text = view_status_text(
+            s.brush, s.brush_scale, self.pigment_label, nav.zoom_percent(), nav.angle_deg()
+        )
+        if self.view_label.text() != text:
+            self.view_label.setText(text)
 
     def hud_data(self) -> HudData:
         """The HUD's figures besides the worker's."""
@@ -307,10 +344,12 @@ class PaintWindow(QMainWindow):
     # --- controls -------------------------------------------------------------------------------
     def load_pigment(self, name: str) -> None:
         """Dip the brush in ``name``."""
+        self.pigment_label = name
         self.worker.submit(actions.load_pigment(name))
 
     def clean_brush(self) -> None:
         """Wipe the brush."""
+        self.pigment_label = "none"
         self.worker.submit(actions.clean_brush())
 
     def slab_put(self, name: str) -> None:
@@ -319,10 +358,12 @@ class PaintWindow(QMainWindow):
 
     def slab_dab(self, x_m: float, y_m: float) -> None:
         """Dab the brush on the mixing slab at (x_m, y_m) (slab metres)."""
+        self.pigment_label = "slab mixture"
         self.worker.submit(actions.slab_dab(x_m, y_m))
 
     def slab_mix(self) -> None:
         """Knife the slab's paint together and load the brush from it."""
+        self.pigment_label = "slab mixture"
         self.worker.submit(actions.slab_mix())
 
     def slab_clear(self) -> None:

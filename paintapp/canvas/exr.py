@@ -8,12 +8,18 @@ Channels of a canvas EXR (image rows top to bottom, i.e. canvas row H-1 first):
 ``paint.height``       total paint thickness, metres (always 32-bit float: thin paint is ~1e-5 m)
 ``paint.wetness``      wetness in [0, 1]
 ``pigment.<name>``     volume fraction of each pigment, in the canvas's channel order
+``surface.tooth``      the canvas surface's height, metres, zero-mean (32-bit float; only on a
+                       canvas with tooth: :mod:`paintapp.canvas.surfaces`)
 =====================  ========================================================================
 
 Attributes: ``chromaticities`` (Rec.709 primaries, D65 white), ``compression`` zip, and
 ``paintapp:canvas``, a JSON object ``{"format": "paintapp-canvas", "version": 1,
-"pixels": [W, H], "size_m": [w, h], "pigments": [...]}`` (plus any ``paintapp:<key>`` strings
-passed as ``metadata``). ``half`` files store every channel but the height as 16-bit floats.
+"pixels": [W, H], "size_m": [w, h], "pigments": [...], "surface": NAME}`` (plus any
+``paintapp:<key>`` strings passed as ``metadata``). ``half`` files store every channel but the
+heights as 16-bit floats. ``surface`` names the canvas surface; a file without it (written before
+surfaces existed) reads as ``smooth``. The name is what a reader keeps: the heights are rebuilt
+from it (deterministically), and the ``surface.tooth`` layer, written for other tools, is only
+checked to lie within the named surface's relief (a layer that does not is refused).
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ from common.errors import InputError
 from common.limits import check_nesting
 from paintapp.atomic import atomic_path
 from paintapp.canvas.model import MAX_PAINT_M, MAX_PIXELS, Canvas
+from paintapp.canvas.surfaces import SMOOTH, relief_m, surface_spec
 from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
 from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 
@@ -38,6 +45,7 @@ META_KEY = "paintapp:canvas"
 #: Rec.709 / sRGB primaries and D65 white: (xr, yr, xg, yg, xb, yb, xw, yw).
 REC709_CHROMATICITIES = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)
 HEIGHT, WETNESS = "paint.height", "paint.wetness"
+TOOTH = "surface.tooth"
 
 
 def pigment_channel(name: str) -> str:
@@ -61,6 +69,8 @@ def _pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
     channel copied once, flipped, into its place)."""
     channels = [rgba[..., i] for i in range(4)] + [canvas.height_m, canvas.wetness]
     channels += list(canvas.concentration)
+    if canvas.has_tooth:
+        channels.append(canvas.tooth_m)
     pixels = np.empty((canvas.height, canvas.width, len(channels)), np.float32)
     for i, channel in enumerate(channels):
         pixels[..., i] = channel[::-1]
@@ -96,10 +106,12 @@ def write_canvas_exr(
         )
     pixels = _pixels(canvas, np.nan_to_num(rgba, nan=0.0, posinf=65504.0, neginf=-65504.0))
     names = ("R", "G", "B", "A", HEIGHT, WETNESS, *map(pigment_channel, canvas.pigment_names))
+    if canvas.has_tooth:
+        names = (*names, TOOTH)
     spec = oiio.ImageSpec(canvas.width, canvas.height, len(names), "float")
     spec.channelnames = names
     small = oiio.HALF if half else oiio.FLOAT
-    spec.channelformats = tuple(oiio.FLOAT if n == HEIGHT else small for n in names)
+    spec.channelformats = tuple(oiio.FLOAT if n in (HEIGHT, TOOTH) else small for n in names)
     spec.attribute("compression", "zip")
     spec.attribute("chromaticities", oiio.TypeDesc("float[8]"), REC709_CHROMATICITIES)
     info = {
@@ -109,6 +121,8 @@ def write_canvas_exr(
         "size_m": list(canvas.size_m),
         "pigments": list(canvas.pigment_names),
     }
+    if canvas.has_tooth:
+        info["surface"] = canvas.surface
     spec.attribute(META_KEY, json.dumps(info, allow_nan=False))
     for key, value in (metadata or {}).items():
         spec.attribute(f"paintapp:{key}", str(value))
@@ -184,20 +198,52 @@ def read_canvas_exr(path: str | Path) -> Canvas:
         raise InputError(f"paint height must be at most {MAX_PAINT_M} m", source, HEIGHT)
     if np.any((wetness < 0) | (wetness > 1.001)):
         raise InputError("wetness must be in [0, 1]", source, WETNESS)
+    surface = _surface(info, source)
     fractions = np.stack(conc).reshape(len(names), spec.height, spec.width)
     total = fractions.sum(axis=0)
     # Renormalise (16-bit fractions need not sum to 1) so the 32-bit height survives exactly.
     paint = fractions * np.where(total > 0, height / np.where(total > 0, total, 1.0), 0.0)
     try:
-        return Canvas(
+        canvas = Canvas(
             pixels=(spec.width, spec.height),
             size_m=(float(info["size_m"][0]), float(info["size_m"][1])),
             pigment_names=tuple(names),
             paint_m=paint.astype(np.float32),
             wetness=np.minimum(wetness, 1.0),
+            surface=surface,
         )
     except InputError as exc:
         raise InputError(exc.message, source, exc.key) from exc
+    _check_tooth(canvas, spec, pixels, source)
+    return canvas
+
+
+def _surface(info: dict, source: str) -> str:
+    """The canvas surface a file names (``smooth`` if none)."""
+    name = info.get("surface", SMOOTH)
+    if not isinstance(name, str):
+        raise InputError("expected a surface name", source, META_KEY)
+    try:
+        return surface_spec(name, key=META_KEY).name
+    except InputError as exc:
+        raise InputError(exc.message, source, META_KEY) from exc
+
+
+def _check_tooth(canvas: Canvas, spec, pixels: np.ndarray, source: str) -> None:
+    """A stored tooth layer must lie within the relief of the surface the file names (its
+    heights are zero-mean, peak to valley the relief: none is farther than that from 0)."""
+    present = list(spec.channelnames)
+    if TOOTH not in present:
+        return
+    stored = pixels[::-1, :, present.index(TOOTH)]
+    relief = relief_m(canvas.surface)
+    if np.any(np.abs(stored) > relief * (1.0 + 1e-3)):
+        raise InputError(
+            f"the {TOOTH} layer exceeds the {canvas.surface!r} surface's relief of "
+            f"{relief * 1e6:g} um",
+            source,
+            TOOTH,
+        )
 
 
 def read_exr_rgba(path: str | Path) -> np.ndarray:

@@ -12,6 +12,10 @@ Arrays:
 Derived: ``height_m`` (H, W) is the total paint thickness; ``concentration`` (P, H, W) the volume
 fraction of each pigment (0 where the canvas is bare).
 
+The ground under the paint is ``surface``, the name of a bundled canvas surface
+(:mod:`paintapp.canvas.surfaces`; ``smooth``, the flat plane, by default); ``tooth_m`` (H, W) is
+its height at each texel, metres (zero-mean; zeros on ``smooth``), built on first use.
+
 Writers (paint transfer, file loading) should go through :meth:`Canvas.write_region`, which clips,
 rejects or zeroes non-finite values and marks the region dirty for the renderer.
 """
@@ -26,6 +30,7 @@ import numpy as np
 from common.errors import InputError
 from common.names import check_pigment_name
 from paintapp.canvas.regions import Box, box_of_nonzero, clip_box, union_box
+from paintapp.canvas.surfaces import SMOOTH, canvas_tooth, surface_spec
 
 MAX_PIXELS = 4096
 MAX_PIGMENTS = 16
@@ -61,6 +66,7 @@ class Canvas:
         pigment_names: the pigment of each paint channel, in order (at most 16, unique).
         paint_m: (P, H, W) paint thickness per pigment, metres; zeros if omitted.
         wetness: (H, W) in [0, 1]; zeros (dry) if omitted.
+        surface: the canvas surface (:mod:`paintapp.canvas.surfaces`), ``smooth`` if omitted.
     """
 
     pixels: tuple[int, int]
@@ -68,6 +74,8 @@ class Canvas:
     pigment_names: tuple[str, ...] = ()
     paint_m: np.ndarray = None  # type: ignore[assignment]
     wetness: np.ndarray = None  # type: ignore[assignment]
+    surface: str = SMOOTH
+    _tooth: np.ndarray | None = field(default=None, init=False, repr=False)
     _dirty: Box | None = field(default=None, init=False, repr=False)
     _wet_dirty: Box | None = field(default=None, init=False, repr=False)
     _wet_box: Box | None = field(default=None, init=False, repr=False)
@@ -100,8 +108,16 @@ class Canvas:
             raise InputError(f"paint thickness must be in [0, {MAX_PAINT_M}] m", key="paint_m")
         if np.any(self.wetness < 0) or np.any(self.wetness > 1):
             raise InputError("wetness must be in [0, 1]", key="wetness")
+        self.surface = surface_spec(self.surface, key="surface").name
         self._wet_box = box_of_nonzero(self.wetness)
         self.mark_all_dirty()
+
+    def __getstate__(self) -> dict:
+        """Pickled (to the simulation process) without the tooth heights, rebuilt from the
+        surface's name where needed."""
+        state = self.__dict__.copy()
+        state["_tooth"] = None
+        return state
 
     @staticmethod
     def _checked(array: np.ndarray | None, shape: tuple[int, ...], key: str) -> np.ndarray:
@@ -171,6 +187,20 @@ class Canvas:
     def height_m(self) -> np.ndarray:
         """Total paint thickness, metres, (H, W) float32 (computed on each call)."""
         return self.paint_m.sum(axis=0, dtype=np.float32)
+
+    @property
+    def has_tooth(self) -> bool:
+        """True unless the surface is the flat ``smooth``."""
+        return not surface_spec(self.surface).flat
+
+    @property
+    def tooth_m(self) -> np.ndarray:
+        """Height of the surface at each texel, metres, (H, W) float32, zero-mean (zeros on
+        ``smooth``); built once and shared by the canvases of the same surface and size (read
+        only)."""
+        if self._tooth is None:
+            self._tooth = canvas_tooth(self.surface, self.pixels, self.texel_size_m)
+        return self._tooth
 
     @property
     def concentration(self) -> np.ndarray:

@@ -18,6 +18,9 @@ The demo paints on an artist's sheet: A4 portrait at 0.1 mm texels (2100 x 2970)
 ``WxH`` mm, or ``own`` for the stroke file's canvas) and ``--texel-mm`` choose another; a file
 given with ``--strokes`` is painted on its own canvas unless ``--canvas-size`` says otherwise.
 Strokes are centred on a larger canvas and kept at its lower-left corner on a smaller one.
+``--surface`` paints on a canvas surface with tooth (``fine_linen``, ``cotton_duck``,
+``cold_press``, ``gesso``; default ``smooth``, the flat canvas): the paint catches on its peaks,
+the preview lights it, the force trace feels it, and ``canvas.exr`` keeps it.
 """
 
 from __future__ import annotations
@@ -69,6 +72,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="MM",
         help="texel size of the sheet, mm (default 0.1; the file's own with --canvas-size own)",
     )
+    parser.add_argument(
+        "--surface",
+        default="smooth",
+        metavar="NAME",
+        help="canvas surface: smooth (default), gesso, fine_linen, cotton_duck, cold_press",
+    )
     add_replay_options(parser)
     parser.set_defaults(func=run)
 
@@ -77,11 +86,13 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from paintapp.canvas.edges import paint_edge_width
+    from paintapp.canvas.surfaces import surface_spec
     from paintapp.resources import asset_path
     from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
     from paintapp.strokes.files import read_strokes
 
     start = time.perf_counter()
+    surface = surface_spec(args.surface)
     source = args.strokes or asset_path(*DEMO_STROKES)
     strokes = read_strokes(source)
     size = args.canvas_size or (OWN_CANVAS if args.strokes else DEMO_SHEET)
@@ -93,8 +104,9 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"painting {source} ({len(strokes.records)} records, {strokes.duration_s:.1f} s) on "
         f"{spec.pixels[0]} x {spec.pixels[1]} texels, {spec.size_m[0] * 1e3:g} x "
-        f"{spec.size_m[1] * 1e3:g} mm"
+        f"{spec.size_m[1] * 1e3:g} mm" + ("" if surface.flat else f", {surface.describe()}")
     )
+    canvas, servo = surface_canvas(strokes, surface.name)
     result = replay_with_progress(
         strokes,
         scene_for(strokes, args.scene),
@@ -102,6 +114,8 @@ def run(args: argparse.Namespace) -> int:
         args.device,
         outputs=files,
         folders=[("--out", out)],
+        canvas=canvas,
+        servo_config=servo,
     )
     if args.explain:
         print_explanation(result, args.fidelity)
@@ -143,6 +157,22 @@ def scene_for(strokes: StrokeFile, named: str | None) -> str | None:
     if named is not None:
         return named
     return DEMO_SCENE if strokes.header.scene is None else None
+
+
+def surface_canvas(strokes: StrokeFile, surface: str):
+    """(canvas, servo configuration) to replay ``strokes`` on ``surface``: a blank canvas of the
+    file's size with that surface and a servo whose canvas contact follows its tooth; (None,
+    None), the replay's own, for ``smooth``."""
+    from paintapp.canvas.model import Canvas
+    from paintapp.canvas.surfaces import SMOOTH
+    from paintapp.haptics.contact import ContactConfig
+    from paintapp.haptics.servo import ServoConfig
+
+    if surface == SMOOTH:
+        return None, None
+    header = strokes.header
+    canvas = Canvas(header.canvas.pixels, header.canvas.size_m, header.pigments, surface=surface)
+    return canvas, ServoConfig(contact=ContactConfig(surface=surface))
 
 
 def realtime(wall_s: float, duration_s: float) -> str:

@@ -1,12 +1,15 @@
 """``paintapp paint [CANVAS.exr] [--device sim|hid:VID:PID|none] [--scene SCENE.toml]
-[--record S.jsonl] [--canvas-size a4|WxH] [--texel-mm MM]``: the interactive painting window.
+[--record S.jsonl] [--canvas-size a4|WxH] [--texel-mm MM] [--surface NAME]``: the interactive
+painting window.
 
 Paint with a pen tablet (pressure, tilt, twist) or the mouse on a canvas of viscous paint,
 simulated live; with a haptic device (``--device``) the brush is steered by the device and its
 force reaches the hand through the 1 kHz servo loop (``sim`` is a simulated hand that follows the
 pointer; ``openhaptics[:NAME]``, ``dhd`` and ``haply[:ID]`` drive a 3D Systems Touch or Phantom, a
 Force Dimension device or Novint Falcon, a Haply Inverse3). A new canvas is A4 at 0.1 mm texels unless ``--canvas-size`` and ``--texel-mm`` say
-otherwise. Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
+otherwise, on the flat ``smooth`` surface unless ``--surface`` names one with tooth (``gesso``,
+``fine_linen``, ``cotton_duck``, ``cold_press``): thin paint catches on its peaks, the lighting
+shows it and a haptic device feels it. File > New asks for the size and the surface again. Every stroke is journalled to ``--record`` as it is painted; the canvas is autosaved
 for crash recovery. Press F1 in the window for the keyboard shortcuts.
 """
 
@@ -55,6 +58,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--texel-mm", type=float, default=0.1, metavar="MM", help="texel of a new canvas, mm"
     )
+    parser.add_argument(
+        "--surface",
+        default="smooth",
+        metavar="NAME",
+        help="surface of a new canvas: smooth (default), gesso, fine_linen, cotton_duck, cold_press",
+    )
     parser.add_argument("--brush", default="round_large", help="brush preset to start with")
     parser.add_argument("--model", choices=SCENE_FLUID_MODELS, help="fluid model to start with")
     parser.add_argument("--force-scale", type=float, default=4.0, help="haptic force scale")
@@ -93,7 +102,9 @@ def options_from_args(args: argparse.Namespace) -> PaintOptions:
     pixels, size_m = canvas_size(args.canvas_size, args.texel_mm)
     scene = load_paint_scene(args.scene) if args.scene else None
     model = args.model or (scene.fluid_model if scene else "grid3d")
-    settings = PaintSettings(brush=args.brush, fluid_model=model, force_scale=args.force_scale)
+    settings = PaintSettings(
+        brush=args.brush, fluid_model=model, force_scale=args.force_scale, surface=args.surface
+    )
     return PaintOptions(
         canvas_path=args.canvas,
         device=parse_device(args.device),

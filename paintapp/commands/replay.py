@@ -23,6 +23,8 @@ from paintapp.paint.fidelity import FIDELITIES, FIDELITY_NAMES
 from paintapp.paint.paint_scene import load_paint_scene
 
 if TYPE_CHECKING:
+    from paintapp.canvas.model import Canvas
+    from paintapp.haptics.servo import ServoConfig
     from paintapp.output_paths import Outputs
     from paintapp.session.playback import ReplayResult
     from paintapp.strokes.files import StrokeFile
@@ -91,12 +93,15 @@ def replay_with_progress(
     *,
     outputs: Outputs = (),
     folders: Outputs = (),
+    canvas: Canvas | None = None,
+    servo_config: ServoConfig | None = None,
 ) -> ReplayResult:
     """Replay with a progress bar on stderr, after the kernels' first compilation when their
     cache is cold (:func:`~paintapp.first_run.warm_up`). Before any work: the scene, the brush
     presets and pigments the file names, and the ``outputs`` (files) and ``folders`` the
     command will write (:func:`~paintapp.output_paths.prepare_outputs`) are checked; a
-    truncated file and long pauses are warned about."""
+    truncated file and long pauses are warned about. ``canvas`` and ``servo_config`` go to
+    :func:`~paintapp.session.playback.replay` (a canvas of another surface, its felt tooth)."""
     from tqdm import tqdm
 
     from paintapp.first_run import warm_up
@@ -135,7 +140,15 @@ def replay_with_progress(
         disable=None,
         leave=False,
     ) as bar:
-        return replay(strokes, scene, progress=bar.update, fidelity=fidelity, device=device)
+        return replay(
+            strokes,
+            scene,
+            canvas=canvas,
+            servo_config=servo_config,
+            progress=bar.update,
+            fidelity=fidelity,
+            device=device,
+        )
 
 
 def print_explanation(result: ReplayResult, fidelity: str | None) -> None:

@@ -284,6 +284,8 @@ class _Host:
                 self.loop.safety.reset()  # ramp in again from zero
             else:
                 self.device.fading = True
+        elif kind == "surface":
+            self.loop.contact.set_surface(str(command[1]))  # built beside the loop, then swapped
         elif kind == "stop":
             self.leave("stopped by the app")
 
@@ -488,6 +490,10 @@ class ServoProcess:
     def set_force_scale(self, force_scale: float, torque_scale: float | None = None) -> None:
         """Change the force scale (the child takes it within :data:`COMMAND_EVERY` ticks)."""
         self.command("scale", float(force_scale), torque_scale)
+
+    def set_surface(self, surface: str) -> None:
+        """Let the canvas contact follow ``surface``'s tooth (the child builds its tile)."""
+        self.command("surface", str(surface))
 
     def engage(self, on: bool) -> None:
         """Fade the output out (False) or ramp it back in (True)."""

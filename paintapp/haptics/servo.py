@@ -119,7 +119,7 @@ class ServoLoop:
         info = self.device.info
         cfg = self.config
         self.safety = ForceSafety(info, cfg.safety)
-        self.contact = CanvasContact(info, cfg.contact)
+        self.contact = CanvasContact(info, cfg.contact, cfg.tick_s)
         # no torque output: filter the force alone (no torque work in the loop)
         dim = 6 if info.has_torque else 3
         self.fluid = FluidForceInput(

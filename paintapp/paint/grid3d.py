@@ -27,9 +27,8 @@ import numpy as np
 from brushes import BrushPreset, PaintReservoir, TipPose, probe_motion
 from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
-from paintapp.paint.bristles import BristleTexture
 from paintapp.paint.cell_kernels import fill_columns
-from paintapp.paint.columns import ColumnWindow
+from paintapp.paint.columns import ColumnWindow, TexelWeights
 from paintapp.paint.exchange import (
     CellSpace,
     ExchangeReport,
@@ -42,6 +41,7 @@ from paintapp.paint.nearest_room import tip_distance
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.texel_velocity import column_face_velocity
+from paintapp.paint.tooth import bristles_only
 from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
 from paintapp.paint.wet_flow import flow_wet_paint
 from solver import BesideJob, DomainBoundary, Fluid, Grid, Probe, Side, Simulation, transport
@@ -190,7 +190,7 @@ class PaintGrid3D(PaintModel):
         band = np.zeros((len(used), *outer.shape[1:]))  # the far field's change
         sim.settings = self.step_settings()
         names = [self.canvas.pigment_names[p] for p in used]
-        exchanged: list[tuple[CellSpace, ExchangeReport, BristleTexture | None, float]] = []
+        exchanged: list[tuple[CellSpace, ExchangeReport, TexelWeights | None, float]] = []
 
         def exchange() -> None:
             # the brush's exchange needs the step's geometry, not its flow, and its bristle
@@ -225,7 +225,8 @@ class PaintGrid3D(PaintModel):
         )
         if self.scene.texel_flow:  # the brush's exchange went through the columns; now the flow
             try:
-                substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, texture)
+                bristles = bristles_only(texture)  # the tooth shapes the exchange, not the flow
+                substeps = flow_wet_paint(self.canvas, self.window, *flow, dt_s, bristles)
             except FloatingPointError:
                 self._reset(pose)
                 return PaintStep(step_ms=clock.total_ms, exchange=report)

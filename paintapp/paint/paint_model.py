@@ -32,9 +32,16 @@ from common.tilt import yaw_angle
 from common.timing import PhaseTimer
 from paintapp.canvas.model import Canvas
 from paintapp.paint.bristles import BristleTexture
-from paintapp.paint.columns import SWEEP_MIN_TEXELS, ColumnWindow, cell_texels, square_texel_m
+from paintapp.paint.columns import (
+    SWEEP_MIN_TEXELS,
+    ColumnWindow,
+    TexelWeights,
+    cell_texels,
+    square_texel_m,
+)
 from paintapp.paint.exchange import ExchangeReport, plough_weights
 from paintapp.paint.paint_scene import PaintScene
+from paintapp.paint.tooth import ToothTexture
 from solver import Grid, SolverSettings
 
 #: Lift-off: the paint round the tip's last footprint flows back into the hole it leaves, by
@@ -339,7 +346,16 @@ class PaintModel(ABC):
         t = self.window.texel_m
         return float(self.travel_m[0] / t), float(self.travel_m[1] / t)
 
-    def texture(self, pose: TipPose, centre_m: np.ndarray) -> BristleTexture | None:
+    def texture(self, pose: TipPose, centre_m: np.ndarray) -> TexelWeights | None:
+        """The texel weights of a step with the apex at ``centre_m``: the brush's bristle
+        texture (None for a preset without bristles), within the canvas tooth's
+        (:class:`paintapp.paint.tooth.ToothTexture`) on a canvas with tooth."""
+        bristles = self.bristle_texture(pose, centre_m)
+        if self.canvas.has_tooth:
+            return ToothTexture(self.canvas, pose.pressure, bristles)
+        return bristles
+
+    def bristle_texture(self, pose: TipPose, centre_m: np.ndarray) -> BristleTexture | None:
         """The brush's bristle texture for a step with the apex at ``centre_m``, or None for a
         preset without bristles."""
         bristles = self.preset.bristles

@@ -12,8 +12,11 @@ and headless export::
 
 :meth:`CanvasRenderer.render_cached` mixes and lights each canvas texel once into a cached
 picture (again only where the canvas changed, everywhere when the pigments, lighting or canvas
-size change) and samples it: cheaper than :meth:`CanvasRenderer.render` wherever a texel covers
-more than one output pixel. Both draw only inside the context's scissor box. Output is linear
+size change, and only as far as the view shows: the rest waits until it is in sight) and samples
+it, each texel drawn sharp: cheaper than :meth:`CanvasRenderer.render` wherever a texel covers
+more than one output pixel. Both draw through a view: an upright :class:`ViewRect` (exports) or
+the window's zoomed, panned and turned :class:`CanvasView`, and only inside the context's scissor
+box. Output is linear
 scene-referred RGB with sRGB/Rec.709 primaries under D65 (see :mod:`paintapp.pigments.spectra`);
 alpha is 1 on the canvas.
 """
@@ -27,12 +30,19 @@ import numpy as np
 
 from paintapp.canvas.model import MAX_PIGMENTS, Canvas
 from paintapp.canvas.regions import Box, clip_box, union_box
+from paintapp.canvas.surfaces import block_mean, relief_m
 from paintapp.pigments.bands import Bands, BandTable, band_table
 from paintapp.pigments.library import PigmentLibrary
 from paintapp.render.context import load_program
 from paintapp.render.overlays import BrushOutline, ForceArrow, arrow_triangles, outline_triangles
+from paintapp.render.sight import split_stale, texel_box_in_sight
 from paintapp.render.textures import CanvasTextures
 from paintapp.render.view import Lighting, ViewRect
+from paintapp.render.view_transform import CanvasView
+
+#: What the renderer draws through: an upright canvas rectangle (exports) or the painting
+#: window's zoomed, panned and turned view.
+View = ViewRect | CanvasView
 
 #: Colour outside the canvas, linear RGBA.
 BACKGROUND = (0.02, 0.02, 0.02, 1.0)
@@ -82,7 +92,11 @@ class CanvasRenderer:
         self._picture: moderngl.Texture | None = None
         self._picture_fbo: moderngl.Framebuffer | None = None
         self._picture_lighting: Lighting | None = None
-        self._stale: Box | None = None  # texels whose cached colour is out of date
+        self._stale: list[Box] = []  # texel boxes whose cached colour is out of date
+        # the canvas surface's tooth heights, on the textures' texels (a 1 x 1 zero when smooth)
+        self._tooth: moderngl.Texture | None = None
+        self._tooth_key: tuple | None = None
+        self._tooth_relief_m = 0.0
 
     # --- canvas upload ------------------------------------------------------------------------
     def _canvas_program(self, layers: int) -> moderngl.Program:
@@ -126,15 +140,38 @@ class CanvasRenderer:
         wet = canvas.take_wet_dirty()
         if wet is not None:
             textures.upload_wetness(canvas, wet)
+        self._update_tooth(canvas, textures)
         changed = union_box(box, wet)
         if changed is not None:
             # the lighting reads the height one texel either side
             x0, y0, x1, y1 = textures.coarse(changed)
             grown = clip_box((x0 - 1, y0 - 1, x1 + 1, y1 + 1), textures.pixels)
-            self._stale = union_box(self._stale, grown)
+            if grown is not None:
+                self._stale.append(grown)
         return changed
 
-    def _set_uniforms(self, program: moderngl.Program, view: ViewRect) -> None:
+    def _update_tooth(self, canvas: Canvas, textures: CanvasTextures) -> None:
+        """Upload the canvas surface's tooth (block means over the textures' reduction) when the
+        surface, the size or the reduction changed; the whole cached picture goes stale."""
+        key = (canvas.surface, canvas.pixels, canvas.size_m, textures.pixels, textures.reduction)
+        if key == self._tooth_key and self._tooth is not None:
+            return
+        if self._tooth is not None:
+            self._tooth.release()
+        if canvas.has_tooth:
+            tooth = block_mean(canvas.tooth_m, textures.reduction, textures.pixels)
+            self._tooth_relief_m = relief_m(canvas.surface)
+        else:
+            tooth = np.zeros((1, 1), np.float32)
+            self._tooth_relief_m = 0.0
+        h, w = tooth.shape
+        self._tooth = self.ctx.texture((w, h), 1, tooth.tobytes(), dtype="f4")
+        self._tooth.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self._tooth.repeat_x = self._tooth.repeat_y = False
+        self._tooth_key = key
+        self._stale.append((0, 0, *textures.pixels))
+
+    def _set_uniforms(self, program: moderngl.Program, view: View) -> None:
         table = self.table
         assert table is not None
         p = len(table.names)
@@ -144,6 +181,10 @@ class CanvasRenderer:
         _uniform(program, "u_view").write(view.matrix().T.copy().tobytes())
         _uniform(program, "u_concentration").value = 0
         _uniform(program, "u_surface").value = 1
+        _uniform(program, "u_tooth").value = 2
+        _uniform(program, "u_tooth_relief_m").value = self._tooth_relief_m
+        if self._tooth is not None:
+            self._tooth.use(2)
         _uniform(program, "u_canvas_size_m").value = self._canvas_size_m
         _uniform(program, "u_texel_m").value = self._texel_m
         _uniform(program, "u_pigment_count").value = p
@@ -172,7 +213,7 @@ class CanvasRenderer:
     def render(
         self,
         size: tuple[int, int] | None = None,
-        view: ViewRect | None = None,
+        view: View | None = None,
         outlines: Sequence[BrushOutline] = (),
         arrows: Sequence[ForceArrow] = (),
         framebuffer: moderngl.Framebuffer | None = None,
@@ -208,17 +249,20 @@ class CanvasRenderer:
     def render_cached(
         self,
         size: tuple[int, int],
-        view: ViewRect,
+        view: View,
         outlines: Sequence[BrushOutline] = (),
         arrows: Sequence[ForceArrow] = (),
         framebuffer: moderngl.Framebuffer | None = None,
     ) -> Box | None:
         """As :meth:`render`, drawing the cached picture (see the module docstring); returns the
-        texel box shaded for this frame (None when the picture was up to date)."""
+        texel box shaded for this frame (None when the picture was up to date in sight). Only
+        the stale texels in sight are shaded; those out of sight wait for a view that shows
+        them. Magnified, the picture's texels are drawn sharp (nearest texel)."""
         textures = self._textures
         if textures is None:
             raise RuntimeError("call update(canvas) before render_cached()")
-        shaded = self._shade_stale(textures)
+        sight = texel_box_in_sight(view.visible_box_m(), self._texel_m, textures.pixels)
+        shaded = self._shade_stale(textures, sight)
         if framebuffer is None:
             framebuffer = self._offscreen(size)
         assert self._picture is not None
@@ -236,40 +280,44 @@ class CanvasRenderer:
         self._draw_overlays(view, size, outlines, arrows)
         return shaded
 
-    def _shade_stale(self, textures: CanvasTextures) -> Box | None:
-        """Bring the cached picture up to date: shade its stale texels (all of them for a new
-        canvas size or a new light)."""
+    def _shade_stale(self, textures: CanvasTextures, sight: Box | None = None) -> Box | None:
+        """Bring the cached picture up to date in ``sight`` (texture texels; None for all of
+        it): shade its stale texels there (all of them for a new canvas size or a new light)."""
         w, h = textures.pixels
         if self._picture is None or self._picture.size != (w, h):
             self._release_picture()
             self._picture = self.ctx.texture((w, h), 4, dtype="f2")
-            self._picture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            # minified (not drawn so by the window) filtered, magnified each texel sharp
+            self._picture.filter = (moderngl.LINEAR, moderngl.NEAREST)
             self._picture.repeat_x = False
             self._picture.repeat_y = False
             self._picture_fbo = self.ctx.framebuffer(color_attachments=[self._picture])
-            self._stale = (0, 0, w, h)
+            self._stale = [(0, 0, w, h)]
         if self._picture_lighting != self.lighting:
             self._picture_lighting = self.lighting
-            self._stale = (0, 0, w, h)
-        box, self._stale = self._stale, None
-        if box is None:
+            self._stale = [(0, 0, w, h)]
+        boxes, self._stale = split_stale(self._stale, sight)
+        if not boxes:
             return None
         assert self._picture_fbo is not None
         self._picture_fbo.use()
         self.ctx.viewport = (0, 0, w, h)
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
-        x0, y0, x1, y1 = box
-        self.ctx.scissor = (x0, y0, x1 - x0, y1 - y0)
+        program = self._canvas_program(textures.layers)
+        self._set_uniforms(program, ViewRect.whole(self._canvas_size_m))
+        textures.concentration.use(0)
+        textures.surface.use(1)
+        self._write_canvas_quad()
+        shaded: Box | None = None
         try:
-            program = self._canvas_program(textures.layers)
-            self._set_uniforms(program, ViewRect.whole(self._canvas_size_m))
-            textures.concentration.use(0)
-            textures.surface.use(1)
-            self._write_canvas_quad()
-            self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+            for box in boxes:
+                x0, y0, x1, y1 = box
+                self.ctx.scissor = (x0, y0, x1 - x0, y1 - y0)
+                self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+                shaded = union_box(shaded, box)
         finally:
             self.ctx.scissor = None
-        return box
+        return shaded
 
     def _write_canvas_quad(self) -> None:
         w, h = self._canvas_size_m
@@ -291,7 +339,7 @@ class CanvasRenderer:
 
     def _draw_overlays(
         self,
-        view: ViewRect,
+        view: View,
         size: tuple[int, int],
         outlines: Sequence[BrushOutline],
         arrows: Sequence[ForceArrow],
@@ -333,6 +381,8 @@ class CanvasRenderer:
         """Free the GPU resources (the context itself is the caller's)."""
         if self._textures is not None:
             self._textures.release()
+        if self._tooth is not None:
+            self._tooth.release()
         for vao in (*self._quad_vaos.values(), self._picture_vao):
             vao.release()
         self._release_picture()

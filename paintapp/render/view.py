@@ -1,4 +1,10 @@
-"""What part of the canvas is shown, and how the scene is lit."""
+"""What part of the canvas is shown, and how the scene is lit.
+
+:class:`ViewRect` is an upright rectangle of the canvas (exports, tests); the painting window's
+zoomed, panned and turned view is :class:`paintapp.render.view_transform.CanvasView`. The renderer
+takes either: both give the matrix to clip space, the size of an output pixel and the canvas
+rectangle in sight.
+"""
 
 from __future__ import annotations
 
@@ -34,6 +40,10 @@ class ViewRect:
     def metres_per_pixel(self, size: tuple[int, int]) -> float:
         """Larger of the x and y extents of one output pixel, metres, for an output (W, H)."""
         return max((self.x1_m - self.x0_m) / size[0], (self.y1_m - self.y0_m) / size[1])
+
+    def visible_box_m(self) -> tuple[float, float, float, float]:
+        """The canvas rectangle (x0, y0, x1, y1), metres, that the output shows."""
+        return self.x0_m, self.y0_m, self.x1_m, self.y1_m
 
 
 @dataclass(frozen=True)

@@ -85,7 +85,11 @@ def test_stroke_paints_journals_undoes_and_shows(window, pump, stroke, tmp_path)
     again = replay(strokes).canvas
     assert np.allclose(again.paint_m.sum(axis=0), painted, atol=1e-9)
 
-    # Screenshot: canvas with the stroke and the HUD.
+    # Screenshot: canvas with the stroke and the HUD (off by default: H shows it).
+    assert not win.hud.show_text
+    win.hud.show_text = True
+    win.hud.refresh()
+    pump(0.2)
     shot = win.grab().toImage()
     widget = win.canvas_widget
     px, py = widget.mapping().to_widget(0.5 * (START_M[0] + END_M[0]), START_M[1])
@@ -98,7 +102,6 @@ def test_stroke_paints_journals_undoes_and_shows(window, pump, stroke, tmp_path)
     pump(0.2)
     bare = _region(win.grab().toImage(), origin.x() + 10, origin.y() + 10, 220, 90)
     assert np.mean(np.abs(hud_box - bare)) > 10, "the HUD is not on screen"
-    win.hud.show_text = True
 
     # Undo removes the stroke, redo brings it back.
     win.undo()
@@ -449,13 +452,15 @@ def test_the_grid_outline_drawn_in_pieces_is_the_outline_drawn_whole(qapp):
     from PySide6.QtWidgets import QWidget
 
     from paintapp.app.hud import GRID_DASH, HudData, HudOverlay
-    from paintapp.app.input import ViewMapping
     from paintapp.app.shared import WorkerStatus
+    from paintapp.render.view_transform import CanvasView
 
     parent = QWidget()
     parent.resize(300, 200)
     status = WorkerStatus(grid_m=(0.031, 0.042, 0.113, 0.094))
-    hud = HudOverlay(lambda: status, HudData, lambda: ViewMapping((0.3, 0.2), (300, 200)), parent)
+    hud = HudOverlay(
+        lambda: status, HudData, lambda: CanvasView.fit((0.3, 0.2), (300, 200)), parent
+    )
     hud.show_grid = True
     outline = hud._outline(status)
     assert outline is not None and hud._grid_rect(status) == outline.adjusted(-3, -3, 3, 3)
