@@ -47,6 +47,7 @@ from paintapp.app.slab import MixingSlab
 from paintapp.app.warmup import warm_up
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box
+from paintapp.compile_ahead import compiling_ahead
 from paintapp.haptics.channel import ForceChannel, LatestValue
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.strokes.records import StrokeHeader
@@ -184,13 +185,14 @@ class SimulationWorker(threading.Thread):
             self.message = "preparing the simulation..."
             self._publish_status()
             try:
-                took = warm_up(
-                    self.session.preset,
-                    self.session.scene,
-                    self.live.texel_size_m,
-                    self.pigments[0],
-                    self.input_kind,
-                )
+                with compiling_ahead():  # a cold cache: a second process compiles from the end
+                    took = warm_up(
+                        self.session.preset,
+                        self.session.scene,
+                        self.live.texel_size_m,
+                        self.pigments[0],
+                        self.input_kind,
+                    )
             except Exception as exc:  # the real strokes will say what is wrong, or work
                 self.message = f"could not prepare the simulation: {type(exc).__name__}: {exc}"
             else:

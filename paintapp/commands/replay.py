@@ -97,13 +97,15 @@ def replay_with_progress(
     servo_config: ServoConfig | None = None,
 ) -> ReplayResult:
     """Replay with a progress bar on stderr, after the kernels' first compilation when their
-    cache is cold (:func:`~paintapp.first_run.warm_up`). Before any work: the scene, the brush
+    cache is cold (:func:`~paintapp.first_run.warm_up`; a second process compiles them from the
+    other end meanwhile, :mod:`paintapp.compile_ahead`). Before any work: the scene, the brush
     presets and pigments the file names, and the ``outputs`` (files) and ``folders`` the
     command will write (:func:`~paintapp.output_paths.prepare_outputs`) are checked; a
     truncated file and long pauses are warned about. ``canvas`` and ``servo_config`` go to
     :func:`~paintapp.session.playback.replay` (a canvas of another surface, its felt tooth)."""
     from tqdm import tqdm
 
+    from paintapp.compile_ahead import compiling_ahead
     from paintapp.first_run import warm_up
     from paintapp.output_paths import prepare_outputs
     from paintapp.pigments.library import load_pigment_library
@@ -131,24 +133,25 @@ def replay_with_progress(
     if len(strokes.gaps) > GAP_WARNINGS_SHOWN:
         more = len(strokes.gaps) - GAP_WARNINGS_SHOWN
         print(f"warning: {strokes.source}: {more} more such pause(s)", file=sys.stderr)
-    warm_up(strokes, scene, fidelity, device)
-    with tqdm(
-        total=len(strokes.records),
-        unit="record",
-        desc="replay",
-        file=sys.stderr,
-        disable=None,
-        leave=False,
-    ) as bar:
-        return replay(
-            strokes,
-            scene,
-            canvas=canvas,
-            servo_config=servo_config,
-            progress=bar.update,
-            fidelity=fidelity,
-            device=device,
-        )
+    with compiling_ahead():
+        warm_up(strokes, scene, fidelity, device)
+        with tqdm(
+            total=len(strokes.records),
+            unit="record",
+            desc="replay",
+            file=sys.stderr,
+            disable=None,
+            leave=False,
+        ) as bar:
+            return replay(
+                strokes,
+                scene,
+                canvas=canvas,
+                servo_config=servo_config,
+                progress=bar.update,
+                fidelity=fidelity,
+                device=device,
+            )
 
 
 def print_explanation(result: ReplayResult, fidelity: str | None) -> None:

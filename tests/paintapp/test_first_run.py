@@ -50,6 +50,12 @@ def fake_kernels(monkeypatch: pytest.MonkeyPatch, **cached: bool) -> tuple[tuple
     return tuple(("fake_kernels", name) for name in cached)
 
 
+@pytest.fixture(autouse=True)
+def no_second_process(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The caches here are cold by pretence only: no process compiles ahead."""
+    monkeypatch.setattr("paintapp.compile_ahead.ENABLED", False)
+
+
 @pytest.fixture
 def strokes():
     return read_strokes(asset_path("strokes", "example_short.jsonl"))
