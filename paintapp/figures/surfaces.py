@@ -100,7 +100,9 @@ def stroke_samples(duration_s: float = 0.8, rate_hz: float = 200.0, ramp_s: floa
 
 def render_crops(canvas) -> dict[str, np.ndarray]:
     """The lit crops of :data:`CROPS` (linear RGBA, row 0 = bottom), rendered headless through
-    a zoomed :class:`~paintapp.render.view.ViewRect`."""
+    a :class:`~paintapp.render.view.ViewRect` of the crop at one pixel per texel, then each
+    texel repeated ``zoom`` times along both axes: the painting window's magnified view (texels
+    shaded once each, drawn sharp above 100 %)."""
     from paintapp.pigments.library import load_pigment_library
     from paintapp.render.context import create_headless_context
     from paintapp.render.renderer import CanvasRenderer
@@ -114,12 +116,10 @@ def render_crops(canvas) -> dict[str, np.ndarray]:
         texel = canvas.texel_size_m[0]
         out = {}
         for name, (box, zoom) in CROPS.items():
-            size = (
-                round((box[2] - box[0]) / texel * zoom),
-                round((box[3] - box[1]) / texel * zoom),
-            )
+            size = (round((box[2] - box[0]) / texel), round((box[3] - box[1]) / texel))
             renderer.render(size=size, view=ViewRect(*box))
-            out[name] = renderer.read_linear_rgba()
+            picture = renderer.read_linear_rgba()
+            out[name] = np.repeat(np.repeat(picture, zoom, axis=0), zoom, axis=1)
         renderer.release()
         return out
     finally:
