@@ -303,6 +303,12 @@ def main() -> None:
     parser.add_argument("--switch-interval-ms", type=float, default=None,
                         help="the interpreter's switch interval in the app (default: as is)")  # fmt: skip
     parser.add_argument("--screenshot", type=Path, help="save the window here at the end")
+    parser.add_argument(
+        "--surface",
+        default="smooth",
+        metavar="NAME",
+        help="the canvas's surface (default smooth; see paintapp paint --surface)",
+    )
     parser.add_argument("--zoom", action="append", metavar="fit,100,800",
                         help="paint at each of these views in turn: fit, or a zoom in percent "
                              "(5-1600; 100: one canvas texel per device pixel); default fit")  # fmt: skip
@@ -413,6 +419,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     from paintapp.app.haptic_link import parse_device
     from paintapp.app.launch import create_window
     from paintapp.app.options import PaintOptions
+    from paintapp.app.settings import PaintSettings
     from paintapp.bench.host_steal import StealMonitor
 
     if args.switch_interval_ms is not None:
@@ -420,6 +427,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     options = PaintOptions(
         device=parse_device(args.device), recovery_dir=tmp, autosave_s=0, recover="no",
         servo=args.servo, record=tmp / "bench.jsonl", simulation=args.simulation,
+        settings=PaintSettings(surface=args.surface),
     )  # fmt: skip
     figures: dict[str, object] = {"device": args.device, "load_before": os.getloadavg()[0]}
     app, win = create_window(options, interactive=False)
