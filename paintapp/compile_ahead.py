@@ -11,8 +11,7 @@ The run's needs, in their order, are a bundled list (:data:`MANIFEST`): every co
 ``paintapp demo`` makes, as (module, qualified name, argument types), numba's own types pickled.
 :func:`compiling_ahead` starts the second process on a cold cache (``python -m
 paintapp.compile_ahead``, which compiles the list from its end) and stops it when the run is done;
-on a warm cache, without the list, or when the list was written by another numba, it does
-nothing. A stale entry (a kernel renamed, its arguments changed) costs the second process one
+on a warm cache, or without a readable list, it does nothing. A stale entry (a kernel renamed, its arguments changed) costs the second process one
 useless compilation or is skipped; the run itself is never changed by it.
 
 ``NUMBA_CACHE_DIR=$(mktemp -d) python -m paintapp.compile_order`` writes the list again (after a
@@ -45,7 +44,8 @@ Entry = tuple[str, str, tuple[Any, ...]]
 
 
 def load_manifest(path: Path = MANIFEST) -> list[Entry]:
-    """The list at ``path`` (empty if missing or unreadable: written by another numba)."""
+    """The list at ``path`` (empty if missing or unreadable, e.g. pickled by a numba whose types
+    have moved)."""
     try:
         with path.open("rb") as handle:
             data = pickle.load(handle)
@@ -53,10 +53,8 @@ def load_manifest(path: Path = MANIFEST) -> list[Entry]:
         return []
     if not isinstance(data, dict) or not isinstance(data.get("entries"), list):
         return []
-    import numba
-
-    if data.get("numba") != numba.__version__:  # another numba's types and code: start afresh
-        return []
+    # Kept under another numba too: its types, where they still unpickle, name the same
+    # signatures; one that no longer compiles is skipped (:func:`compile_from_the_end`).
     return [e for e in data["entries"] if isinstance(e, tuple) and len(e) == 3]
 
 
