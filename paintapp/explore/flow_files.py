@@ -43,7 +43,7 @@ import numpy as np
 
 from common.errors import InputError
 from common.limits import ARCHIVE_ERRORS, brief, npz_headers
-from paintapp.explore.flow_frame import Frame
+from paintapp.explore.flow_frame import Frame, series_times
 from paintapp.explore.fluid_properties import PRESSURE_UNITS, FluidOverrides
 from paintapp.explore.fluid_properties import given as _given
 from solver import SampledFlow
@@ -208,17 +208,7 @@ def _from_frames(frames: list[Frame], overrides: FluidOverrides, source: str) ->
             raise InputError("every frame of a series needs the same grid", source=f.source)
     times: np.ndarray | None = None
     if len(frames) > 1:
-        stated = [f.time_s for f in frames]
-        if all(t is not None for t in stated):
-            times = np.array(stated, dtype=float)
-        elif overrides.frame_dt_s is not None:
-            times = overrides.frame_dt_s * np.arange(len(frames))
-        else:
-            raise InputError(
-                "the files state no TimeValue; give --frame-dt SECONDS",
-                source=source,
-                key="TimeValue",
-            )
+        times = series_times([f.time_s for f in frames], overrides.frame_dt_s, source)
     pressure = np.concatenate([f.pressure for f in frames])
     velocity = np.concatenate([f.velocity for f in frames])
     merged = replace(first, source=source, pressure=pressure, velocity=velocity, time_s=None)

@@ -2,31 +2,20 @@
 (scaled, filtered and clamped by the servo loop) beside the fluid's physical force and torque on
 the probe in SI (N, N m; in 2D times the probe's depth), held from the latest evaluation.
 
-CSV columns: :data:`DEVICE_COLUMNS` (as a painting replay writes them), then
-:data:`FLUID_COLUMNS`.
+CSV columns: :data:`~paintapp.haptics.force_csv.DEVICE_COLUMNS` (as a painting replay writes
+them), then :data:`FLUID_COLUMNS`.
 """
 
 from __future__ import annotations
 
-import csv
-import io
 from pathlib import Path
 
 import numpy as np
 
-from common.errors import InputError
 from paintapp.atomic import atomic_path
+from paintapp.haptics.force_csv import DEVICE_COLUMNS, read_trace_csv, write_trace_csv
 
-#: The device's columns, as a painting replay writes them.
-DEVICE_COLUMNS = (
-    "time_s",
-    "force_x_n",
-    "force_y_n",
-    "force_z_n",
-    "torque_x_nm",
-    "torque_y_nm",
-    "torque_z_nm",
-)
+#: The fluid's columns, beside the device's.
 FLUID_COLUMNS = (
     "fluid_force_x_n",
     "fluid_force_y_n",
@@ -49,33 +38,13 @@ def fluid_at_ticks(trace: np.ndarray, evaluations: np.ndarray) -> np.ndarray:
 
 def write_explore_forces_csv(path: str | Path, trace: np.ndarray, evaluations: np.ndarray) -> None:
     """Write the device's trace (ticks, 7) and the fluid's force beside it, atomically."""
-    rows = np.column_stack([trace, fluid_at_ticks(trace, evaluations)])
-    if not np.all(np.isfinite(rows)):
-        raise ValueError("a force trace must be finite")
-    out = io.StringIO()
-    out.write(",".join(COLUMNS) + "\n")
-    for row in rows:
-        out.write(",".join(f"{v:.9g}" for v in row) + "\n")
-    with atomic_path(path) as tmp:
-        tmp.write_text(out.getvalue(), encoding="utf-8")
+    write_trace_csv(path, COLUMNS, np.column_stack([trace, fluid_at_ticks(trace, evaluations)]))
 
 
 def read_explore_forces_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """The device's trace (ticks, 7) and the fluid's force and torque (ticks, 6) of a file
     :func:`write_explore_forces_csv` wrote; :class:`InputError` on a malformed file."""
-    source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read the forces file: {exc}", source) from None
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows or tuple(rows[0]) != COLUMNS:
-        raise InputError(f"expected the header {','.join(COLUMNS)}", source, line=1)
-    try:
-        data = np.array([[float(v) for v in row] for row in rows[1:]], dtype=float)
-    except ValueError as exc:
-        raise InputError(f"expected numbers: {exc}", source) from None
-    data = data.reshape(-1, len(COLUMNS))
+    data = read_trace_csv(path, COLUMNS)
     return data[:, : len(DEVICE_COLUMNS)], data[:, len(DEVICE_COLUMNS) :]
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from common.errors import InputError
+from paintapp.explore.flow_frame import series_times
 from paintapp.explore.fluid_properties import PRESSURE_UNITS, FluidOverrides
 from paintapp.explore.fluid_properties import given as _given
 from paintapp.explore.load_progress import Progress
@@ -132,14 +133,4 @@ def _viscosity(
 def _times(stated: list[float | None], overrides: FluidOverrides, source: str) -> np.ndarray:
     if len(stated) == 1:
         return np.array([stated[0] or 0.0])
-    if all(t is not None for t in stated):
-        times = np.array(stated, dtype=float)
-    elif overrides.frame_dt_s is not None:
-        times = overrides.frame_dt_s * np.arange(len(stated))
-    else:
-        raise InputError(
-            "the files state no TimeValue; give --frame-dt SECONDS", source, "TimeValue"
-        )
-    if not (np.all(np.isfinite(times)) and np.all(np.diff(times) > 0)):
-        raise InputError("expected finite, strictly increasing frame times", source, "times")
-    return times
+    return series_times(stated, overrides.frame_dt_s, source)

@@ -113,13 +113,20 @@ def _reader(case: Path) -> Any:
     return reader
 
 
-def _check_time_folder(case: Path, t: float) -> None:
+def _time_folders(case: Path, t: float) -> list[Path]:
+    """The case's folders whose names are the time ``t`` (``0.5`` and ``0.50`` both)."""
+    found = []
     for folder in case.iterdir():
         try:
-            if not folder.is_dir() or abs(float(folder.name) - t) > 1e-9 * max(1.0, abs(t)):
-                continue
+            if folder.is_dir() and abs(float(folder.name) - t) <= 1e-9 * max(1.0, abs(t)):
+                found.append(folder)
         except ValueError:
             continue
+    return found
+
+
+def _check_time_folder(case: Path, t: float) -> None:
+    for folder in _time_folders(case, t):
         for name in ("p", "U", "p.gz", "U.gz"):
             if (folder / name).is_file():
                 check_openfoam_file(folder / name)
@@ -153,12 +160,7 @@ def pressure_units(case: Path, t: float) -> str | None:
     """``"m2/s2"`` or ``"Pa"`` from the dimensions of ``p`` at time ``t``, or None."""
     import gzip
 
-    for folder in case.iterdir():
-        try:
-            if not folder.is_dir() or abs(float(folder.name) - t) > 1e-9 * max(1.0, abs(t)):
-                continue
-        except ValueError:
-            continue
+    for folder in _time_folders(case, t):
         for name in ("p", "p.gz"):
             path = folder / name
             if not path.is_file():

@@ -6,51 +6,29 @@ then force x, y, z in N and torque x, y, z in N m, canvas frame), then one row p
 
 from __future__ import annotations
 
-import csv
-import io
 import sys
 from concurrent.futures import ThreadPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
 
-from common.errors import InputError
 from paintapp.atomic import atomic_path
 from paintapp.canvas.exr import unlit_rgba, write_canvas_exr
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.preview import write_preview_png
+from paintapp.haptics.force_csv import read_trace_csv, write_trace_csv
 from paintapp.pigments.library import PigmentLibrary, load_pigment_library
 from paintapp.session.playback import FORCE_COLUMNS
 
 
 def write_forces_csv(path: str | Path, forces: np.ndarray) -> None:
     """Write a force trace (ticks, 7) as CSV (header row, one row per tick), atomically."""
-    forces = np.asarray(forces, dtype=float).reshape(-1, len(FORCE_COLUMNS))
-    if not np.all(np.isfinite(forces)):
-        raise ValueError("a force trace must be finite")
-    out = io.StringIO()
-    out.write(",".join(FORCE_COLUMNS) + "\n")
-    for row in forces:
-        out.write(",".join(f"{v:.9g}" for v in row) + "\n")
-    with atomic_path(path) as tmp:
-        tmp.write_text(out.getvalue(), encoding="utf-8")
+    write_trace_csv(path, FORCE_COLUMNS, forces)
 
 
 def read_forces_csv(path: str | Path) -> np.ndarray:
     """Read a forces CSV back as (ticks, 7); :class:`InputError` on a malformed file."""
-    source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read the forces file: {exc}", source) from None
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows or tuple(rows[0]) != FORCE_COLUMNS:
-        raise InputError(f"expected the header {','.join(FORCE_COLUMNS)}", source, line=1)
-    try:
-        data = np.array([[float(v) for v in row] for row in rows[1:]], dtype=float)
-    except ValueError as exc:
-        raise InputError(f"expected numbers: {exc}", source) from None
-    return data.reshape(-1, len(FORCE_COLUMNS))
+    return read_trace_csv(path, FORCE_COLUMNS)
 
 
 def canvas_picture(

@@ -37,6 +37,7 @@ from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.device import DeviceInfo
 from paintapp.haptics.devices.stroke_player import ReplayDevice
+from paintapp.haptics.force_csv import DEVICE_COLUMNS
 from paintapp.haptics.servo import ServoConfig, ServoLoop, ServoReport
 from paintapp.paint.fidelity import apply_fidelity
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
@@ -47,15 +48,7 @@ from paintapp.strokes.files import MAX_GAP_S, StrokeFile, StrokeHeader
 from paintapp.strokes.records import SwitchBrush
 
 #: Columns of a force trace (and of the forces CSV).
-FORCE_COLUMNS = (
-    "time_s",
-    "force_x_n",
-    "force_y_n",
-    "force_z_n",
-    "torque_x_nm",
-    "torque_y_nm",
-    "torque_z_nm",
-)
+FORCE_COLUMNS = DEVICE_COLUMNS
 
 
 class ServoForcePath:
