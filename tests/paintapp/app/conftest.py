@@ -173,3 +173,32 @@ def pen(qapp) -> Callable[..., None]:
         QApplication.sendEvent(widget, tablet_event(widget, kinds[kind], x, y, pressure))
 
     return send
+
+
+#: A small canvas at 0.25 mm texels: the window tests' paint steps stay quick.
+FAST_CANVAS = {"pixels": (720, 480), "size_m": (0.18, 0.12)}
+
+
+def window_options(tmp_path, **kw):
+    """Options of a test window: journal and recovery in ``tmp_path``, no autosave."""
+    from paintapp.app.options import PaintOptions
+
+    return PaintOptions(
+        record=tmp_path / "strokes.jsonl",
+        recovery_dir=tmp_path / "recovery",
+        autosave_s=0,
+        recover="no",
+        **kw,
+    )
+
+
+@pytest.fixture
+def window(qapp, pump, tmp_path):
+    """A painting window on :data:`FAST_CANVAS`, rendered once, closed after the test."""
+    from paintapp.app.launch import create_window
+
+    _, win = create_window(window_options(tmp_path, **FAST_CANVAS), interactive=False)
+    assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
+    yield win
+    win.close()
+    pump(0.1)

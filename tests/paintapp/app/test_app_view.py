@@ -7,38 +7,14 @@ the samples the simulation worker receives."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from paintapp.app.options import PaintOptions
 from tests.paintapp.app.conftest import tablet_event
 
-FAST_CANVAS = {"pixels": (720, 480), "size_m": (0.18, 0.12)}
 #: The scripted stroke, canvas metres: a gentle S across 24 mm.
 STROKE_M = [(0.06 + 0.024 * i / 40, 0.05 + 0.004 * math.sin(i / 6.0)) for i in range(41)]
-
-
-def _options(tmp_path: Path) -> PaintOptions:
-    return PaintOptions(
-        record=tmp_path / "strokes.jsonl",
-        recovery_dir=tmp_path / "recovery",
-        autosave_s=0,
-        recover="no",
-        **FAST_CANVAS,
-    )
-
-
-@pytest.fixture
-def window(qapp, pump, tmp_path):
-    from paintapp.app.launch import create_window
-
-    _, win = create_window(_options(tmp_path), interactive=False)
-    assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
-    yield win
-    win.close()
-    pump(0.1)
 
 
 @pytest.fixture

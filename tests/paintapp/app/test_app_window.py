@@ -3,43 +3,16 @@ undoes and redoes, and the window shows the canvas and the HUD."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from paintapp.app.haptic_link import parse_device
-from paintapp.app.options import PaintOptions
 from paintapp.session.playback import replay
 from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import LoadPigment, Marker
+from tests.paintapp.app.conftest import FAST_CANVAS, window_options
 
 START_M, END_M = (0.05, 0.06), (0.13, 0.06)
-#: The journalling checks below compare the journal with a pointer moved at 50 Hz, which needs
-#: the worker to keep up (one step per event or so): a 0.25 mm canvas. The default A4 canvas at
-#: 0.1 mm has its own test (its steps are slower, so the worker takes fewer of the samples).
-FAST_CANVAS = {"pixels": (720, 480), "size_m": (0.18, 0.12)}
-
-
-def _options(tmp_path: Path, **kw) -> PaintOptions:
-    return PaintOptions(
-        record=tmp_path / "strokes.jsonl",
-        recovery_dir=tmp_path / "recovery",
-        autosave_s=0,
-        recover="no",
-        **kw,
-    )
-
-
-@pytest.fixture
-def window(qapp, pump, tmp_path):
-    from paintapp.app.launch import create_window
-
-    _, win = create_window(_options(tmp_path, **FAST_CANVAS), interactive=False)
-    assert pump(5.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
-    yield win
-    win.close()
-    pump(0.1)
 
 
 def _idle(win, pump, strokes: int) -> None:
@@ -131,7 +104,7 @@ def test_the_simulation_in_a_process_of_its_own_paints_journals_undoes_and_dies_
     from paintapp.app.sim_process import SimulationProcess
 
     _, win = create_window(
-        _options(tmp_path, simulation="process", **FAST_CANVAS), interactive=False
+        window_options(tmp_path, simulation="process", **FAST_CANVAS), interactive=False
     )
     try:
         assert isinstance(win.worker, SimulationProcess)
@@ -181,7 +154,7 @@ def _region(image, x: int, y: int, w: int, h: int) -> np.ndarray:
 def test_the_default_canvas_is_a4_and_a_stroke_paints_where_it_went(qapp, pump, stroke, tmp_path):
     from paintapp.app.launch import create_window
 
-    _, win = create_window(_options(tmp_path), interactive=False)
+    _, win = create_window(window_options(tmp_path), interactive=False)
     try:
         assert pump(10.0, lambda: win.canvas_widget.frame_count > 0), "the canvas never rendered"
         canvas = win.shared.canvas
@@ -229,7 +202,7 @@ def test_simulated_device_paints_and_survives_a_fault(qapp, pump, stroke, tmp_pa
     from paintapp.app.launch import create_window
     from paintapp.haptics.device import DeviceError
 
-    options = _options(tmp_path, device=parse_device("sim"), servo="thread")
+    options = window_options(tmp_path, device=parse_device("sim"), servo="thread")
     _, win = create_window(options, interactive=False)
     try:
         win.load_pigment("cadmium_red")
@@ -283,7 +256,7 @@ def test_servo_process_steers_the_brush_and_its_death_is_survived(
 
     from paintapp.app.launch import create_window
 
-    options = _options(tmp_path, device=parse_device("sim"), simulation=simulation)
+    options = window_options(tmp_path, device=parse_device("sim"), simulation=simulation)
     _, win = create_window(options, interactive=False)
     try:
         link = win.link
@@ -402,7 +375,7 @@ def test_without_opengl_the_window_says_so_and_keeps_painting(
         raise RenderUnavailable("cannot create a headless EGL OpenGL context: no display")
 
     monkeypatch.setattr(canvas_widget, "create_headless_context", no_gl)
-    _, win = create_window(_options(tmp_path, **FAST_CANVAS), interactive=False)
+    _, win = create_window(window_options(tmp_path, **FAST_CANVAS), interactive=False)
     try:
         pump(0.5)
         widget = win.canvas_widget

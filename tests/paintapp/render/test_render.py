@@ -8,37 +8,19 @@ import pytest
 
 from paintapp.canvas.model import Canvas
 from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
-from paintapp.pigments.library import bundled_pigments
 from paintapp.render import (
     PROGRAM_NAMES,
     BrushOutline,
     CanvasRenderer,
     ForceArrow,
     Lighting,
-    RenderUnavailable,
     ViewRect,
-    create_headless_context,
     load_program,
 )
 from paintapp.resources import shader_source
 
 UNLIT = Lighting(enabled=False)
 TEXEL_M = 1e-4
-
-
-@pytest.fixture(scope="module")
-def ctx():
-    try:
-        context = create_headless_context()
-    except RenderUnavailable as exc:
-        pytest.skip(f"no headless OpenGL (EGL) on this machine: {exc}")
-    yield context
-    context.release()
-
-
-@pytest.fixture(scope="module")
-def library():
-    return bundled_pigments()
 
 
 def known_canvas(w: int = 24, h: int = 16) -> Canvas:
