@@ -110,14 +110,19 @@ def read_unstructured(path: Path, progress: Progress | None = None) -> Unstructu
             from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
             reader = vtkXMLUnstructuredGridReader()
-        reader.SetFileName(source)
-        if progress is not None:
-            progress.watch(reader, "reading")
-        reader.Update()
-        mesh = reader.GetOutput()
+        mesh = _read(reader, source, progress)
     if mesh is None or mesh.GetClassName() != "vtkUnstructuredGrid" or not mesh.GetNumberOfCells():
         raise InputError("not a readable unstructured grid (no cells were read)", source)
     return UnstructuredFrame(source, mesh, *_field_data(mesh))
+
+
+def _read(reader: Any, source: str, progress: Progress | None) -> Any:
+    """Run a VTK ``reader`` on the file ``source`` (its progress shown) and return its output."""
+    reader.SetFileName(source)
+    if progress is not None:
+        progress.watch(reader, "reading")
+    reader.Update()
+    return reader.GetOutput()
 
 
 def _multiblock(path: Path, progress: Progress | None) -> Any:
@@ -138,13 +143,9 @@ def _multiblock(path: Path, progress: Progress | None) -> Any:
             check_xml(member)
     from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader
 
-    reader = vtkXMLMultiBlockDataReader()
-    reader.SetFileName(source)
-    if progress is not None:
-        progress.watch(reader, "reading")
-    reader.Update()
+    output = _read(vtkXMLMultiBlockDataReader(), source, progress)
     found: list[tuple[int, str, Any]] = []
-    _leaves(reader.GetOutput(), "", found)
+    _leaves(output, "", found)
     grids = [(n, name, b) for n, name, b in found if b.GetClassName() == "vtkUnstructuredGrid"]
     if not grids:
         if any(b.GetClassName() == "vtkPolyData" for _, _, b in found):

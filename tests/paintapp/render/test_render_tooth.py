@@ -6,28 +6,20 @@ import numpy as np
 import pytest
 
 from paintapp.canvas.model import Canvas
-from paintapp.pigments.library import bundled_pigments
 from paintapp.render import (
     CanvasRenderer,
     Lighting,
-    RenderUnavailable,
     ViewRect,
-    create_headless_context,
 )
 
 SIZE = (240, 160)  # 0.1 mm texels
 
 
 @pytest.fixture(scope="module")
-def renderer():
-    try:
-        ctx = create_headless_context()
-    except RenderUnavailable as exc:
-        pytest.skip(f"no headless OpenGL (EGL) on this machine: {exc}")
-    r = CanvasRenderer(ctx, bundled_pigments())
+def renderer(ctx, library):
+    r = CanvasRenderer(ctx, library)
     yield r
     r.release()
-    ctx.release()
 
 
 def painted(surface: str, thickness_m: float) -> Canvas:
