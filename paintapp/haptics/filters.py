@@ -21,6 +21,7 @@ the normalized window is the impulse response (unit DC gain: the mean force is k
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal, get_args
 
@@ -115,6 +116,33 @@ class LinearInterpolation(ReconstructionFilter):
         return input_period_s + 0.5 * self.tick_s
 
 
+def _barthann(n: int) -> np.ndarray:
+    """The symmetric Bartlett-Hann window of ``n`` points (as :func:`scipy.signal.get_window`'s
+    ``"barthann"``)."""
+    x = np.arange(n) / max(n - 1, 1)
+    return 0.62 - 0.48 * np.abs(x - 0.5) + 0.38 * np.cos(2.0 * np.pi * (x - 0.5))
+
+
+def _cosine_sum(a0: float) -> Callable[[int], np.ndarray]:
+    """The symmetric window ``a0 - (1 - a0) cos(2 pi k / (n - 1))`` (Hann: 0.5; Hamming: 0.54)."""
+
+    def window(n: int) -> np.ndarray:
+        x = np.arange(n) / max(n - 1, 1)
+        return a0 - (1.0 - a0) * np.cos(2.0 * np.pi * x)
+
+    return window
+
+
+#: Windows built here rather than by :func:`scipy.signal.get_window` (the same values, tested):
+#: the servo process and a replay start without loading ``scipy.signal``, 0.5-0.7 s of imports,
+#: for the paper's filter. Any other window, and every low-pass design, is scipy's.
+CLOSED_FORM_WINDOWS: dict[str, Callable[[int], np.ndarray]] = {
+    "barthann": _barthann,
+    "hann": _cosine_sum(0.5),
+    "hamming": _cosine_sum(0.54),
+}
+
+
 def fir_taps(
     order: int = 10,
     window: str | tuple = "barthann",
@@ -137,15 +165,19 @@ def fir_taps(
     if int(order) != order or order < 1:
         raise InputError(f"FIR order must be a positive integer, got {order}", key="order")
     numtaps = int(order) + 1
-    from scipy import signal  # here: the servo process starts without loading scipy until a FIR
+    closed = CLOSED_FORM_WINDOWS.get(window) if isinstance(window, str) else None
+    if cutoff_hz is None and closed is not None:
+        taps = closed(numtaps)
+    else:
+        from scipy import signal  # here: loading scipy.signal takes 0.5-0.7 s
 
-    try:
-        if cutoff_hz is None:
-            taps = signal.get_window(window, numtaps, fftbins=False)
-        else:
-            taps = signal.firwin(numtaps, cutoff_hz, window=window, fs=rate_hz)
-    except (ValueError, TypeError) as exc:
-        raise InputError(f"cannot build FIR taps: {exc}", key="window") from exc
+        try:
+            if cutoff_hz is None:
+                taps = signal.get_window(window, numtaps, fftbins=False)
+            else:
+                taps = signal.firwin(numtaps, cutoff_hz, window=window, fs=rate_hz)
+        except (ValueError, TypeError) as exc:
+            raise InputError(f"cannot build FIR taps: {exc}", key="window") from exc
     total = float(np.sum(taps))
     if not np.all(np.isfinite(taps)) or abs(total) < 1e-12:
         raise InputError(f"window {window!r} gives taps with zero sum", key="window")

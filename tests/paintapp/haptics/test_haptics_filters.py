@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
 from common.errors import InputError
 from paintapp.haptics.filters import (
+    CLOSED_FORM_WINDOWS,
     FilterConfig,
     FirWindowFilter,
     fir_taps,
@@ -75,6 +79,24 @@ def test_fir_taps_unit_gain_and_linear_phase(window, order: int) -> None:
     assert taps.sum() == pytest.approx(1.0)
     np.testing.assert_allclose(taps, taps[::-1], atol=1e-15)  # symmetric: delay order/2 ticks
     assert FirWindowFilter(TICK, 1, order, window).delay_s(0.0) == pytest.approx(order / 2 * TICK)
+
+
+@pytest.mark.parametrize("window", sorted(CLOSED_FORM_WINDOWS))
+@pytest.mark.parametrize("points", [2, 3, 11, 22, 101])
+def test_windows_built_here_are_scipys(window: str, points: int) -> None:
+    from scipy.signal import get_window
+
+    ours = CLOSED_FORM_WINDOWS[window](points)
+    np.testing.assert_allclose(ours, get_window(window, points, fftbins=False), atol=1e-15)
+
+
+def test_the_papers_filter_loads_no_scipy_signal() -> None:
+    code = (
+        "import sys; from paintapp.haptics.filters import FirWindowFilter; "
+        "FirWindowFilter(1e-3, 6, 10, 'barthann'); print('scipy.signal' in sys.modules)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"
 
 
 def test_fir_lowpass_design_attenuates_above_cutoff() -> None:
