@@ -33,14 +33,13 @@ from paintapp.canvas.regions import Box
 from paintapp.paint import columns_kernels as kernels
 from paintapp.paint.paint_scene import TransferKernel
 
-#: Samples per cell of travel that a swept change is averaged over, and at least one a texel
-#: (at most :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is
-#: smooth on the scale of a cell, and the bristle texture's streaks run along the path, but a
-#: ridge or a trail's edge is a texel sharp: with two a cell alone, a ripple at the sub-step
-#: remains.
+#: Samples per cell of travel that a swept change is averaged over (at most
+#: :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is smooth on
+#: the scale of a cell, and the bristle texture's streaks run along the path, so two a cell lay it
+#: as evenly as a sample a texel did (docs/performance.md, the sweep's samples).
 SWEEP_SAMPLES_PER_CELL = 2
-#: Longest distance (texels) between two of those samples.
-SWEEP_SPACING_TEXELS = 1.0
+#: Longest distance (texels) between two of those samples, for a grid of large cells.
+SWEEP_SPACING_TEXELS = 6.0
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
 #: With one texel per cell the change has no detail finer than the tip's own cells, and the teeth
 #: left there come from where the tip's faces fall within a cell, which the sweep cannot undo
