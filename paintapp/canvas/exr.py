@@ -25,7 +25,9 @@ checked to lie within the named surface's relief (a layer that does not is refus
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Generator, Iterable, Mapping
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import closing
 from pathlib import Path
 
 import numpy as np
@@ -64,17 +66,57 @@ def unlit_rgba(canvas: Canvas, library: PigmentLibrary | None = None) -> np.ndar
     return rgba
 
 
-def _pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
-    """(H, W, C) float32 with rows top first: RGBA, height, wetness, concentrations (each
-    channel copied once, flipped, into its place)."""
-    channels = [rgba[..., i] for i in range(4)] + [canvas.height_m, canvas.wetness]
-    channels += list(canvas.concentration)
+#: The largest finite 16-bit float: the picture's values are clipped to it.
+HALF_MAX = 65504.0
+
+#: File rows in a block of the pixels handed to OpenImageIO at a time: a multiple of the 16
+#: scanlines of a zip block (each block compresses apart), about 8 MB of float32 at A4 (2100
+#: texels wide) with 10 channels.
+BLOCK_ROWS = 96
+
+
+def _fill_block(canvas: Canvas, rgba: np.ndarray, y0: int, y1: int, out: np.ndarray) -> np.ndarray:
+    """File rows ``y0:y1`` (top first) of the pixels, (y1 - y0, W, C) float32, in ``out``:
+    RGBA (non-finite values replaced, all within +-:data:`HALF_MAX`), height, wetness, concentrations, tooth; each channel
+    computed for these rows only and copied once, flipped, into its place."""
+    rows = slice(canvas.height - y1, canvas.height - y0)  # the same texels, bottom first
+    block = out[: y1 - y0]
+    picture = block[..., :4]
+    picture[...] = rgba[rows][::-1]
+    np.nan_to_num(picture, copy=False, nan=0.0, posinf=HALF_MAX, neginf=-HALF_MAX)
+    np.clip(picture, -HALF_MAX, HALF_MAX, out=picture)  # finite in a half file too
+    block[..., 4] = canvas.paint_m[:, rows].sum(axis=0, dtype=np.float32)[::-1]
+    block[..., 5] = canvas.wetness[rows][::-1]
+    box = (0, rows.start, canvas.width, rows.stop)
+    for i, fraction in enumerate(canvas.concentration_region(box)):
+        block[..., 6 + i] = fraction[::-1]
     if canvas.has_tooth:
-        channels.append(canvas.tooth_m)
-    pixels = np.empty((canvas.height, canvas.width, len(channels)), np.float32)
-    for i, channel in enumerate(channels):
-        pixels[..., i] = channel[::-1]
-    return pixels
+        block[..., -1] = canvas.tooth_m[rows][::-1]
+    return block
+
+
+def _blocks(
+    canvas: Canvas, rgba: np.ndarray, nchannels: int
+) -> Generator[tuple[int, np.ndarray], None, None]:
+    """(first file row, block) over the image, top first; the next block is filled on a thread
+    of its own while the caller writes the last one (OpenImageIO releases the interpreter lock
+    while it converts and compresses, numpy while it copies): two buffers of
+    :data:`BLOCK_ROWS` rows in all, not the whole image."""
+    step = min(BLOCK_ROWS, canvas.height)
+    buffers = [np.empty((step, canvas.width, nchannels), np.float32) for _ in range(2)]
+    starts = range(0, canvas.height, step)
+
+    def fill(k: int) -> np.ndarray:
+        y0 = starts[k]
+        return _fill_block(canvas, rgba, y0, min(y0 + step, canvas.height), buffers[k % 2])
+
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="exr-block") as pool:
+        pending = pool.submit(fill, 0)
+        for k, y0 in enumerate(starts):
+            block = pending.result()
+            if k + 1 < len(starts):
+                pending = pool.submit(fill, k + 1)
+            yield y0, block
 
 
 def write_canvas_exr(
@@ -86,7 +128,8 @@ def write_canvas_exr(
     library: PigmentLibrary | None = None,
     metadata: Mapping[str, str] | None = None,
 ) -> None:
-    """Write a canvas EXR atomically (see the module docstring for the layout).
+    """Write a canvas EXR atomically (see the module docstring for the layout); its pixels are
+    built :data:`BLOCK_ROWS` rows at a time, each block beside the writing of the one before.
 
     Args:
         path: output file (``.exr``).
@@ -104,7 +147,6 @@ def write_canvas_exr(
         raise ValueError(
             f"rgba must have shape {(canvas.height, canvas.width, 4)}, got {rgba.shape}"
         )
-    pixels = _pixels(canvas, np.nan_to_num(rgba, nan=0.0, posinf=65504.0, neginf=-65504.0))
     names = ("R", "G", "B", "A", HEIGHT, WETNESS, *map(pigment_channel, canvas.pigment_names))
     if canvas.has_tooth:
         names = (*names, TOOTH)
@@ -126,20 +168,24 @@ def write_canvas_exr(
     spec.attribute(META_KEY, json.dumps(info, allow_nan=False))
     for key, value in (metadata or {}).items():
         spec.attribute(f"paintapp:{key}", str(value))
-    with atomic_path(path) as tmp:
-        _write_image(tmp, spec, pixels)
+    with closing(_blocks(canvas, rgba, len(names))) as blocks, atomic_path(path) as tmp:
+        _write_image(tmp, spec, blocks)
 
 
-def _write_image(path: Path, spec: oiio.ImageSpec, pixels: np.ndarray) -> None:
-    """Write one image with OpenImageIO; raises OSError with OIIO's message on failure."""
+def _write_image(
+    path: Path, spec: oiio.ImageSpec, blocks: Iterable[tuple[int, np.ndarray]]
+) -> None:
+    """Write one image with OpenImageIO from blocks of scanlines, (first row, (rows, W, C)
+    float32), top first; raises OSError with OIIO's message on failure."""
     out = oiio.ImageOutput.create(str(path))
     if out is None:
         raise OSError(f"cannot create an image writer for {path}: {oiio.geterror()}")
     try:
         if not out.open(str(path), spec):
             raise OSError(f"cannot open {path} for writing: {out.geterror()}")
-        if not out.write_image(pixels):
-            raise OSError(f"cannot write {path}: {out.geterror()}")
+        for y0, block in blocks:
+            if not out.write_scanlines(y0, y0 + len(block), 0, block):
+                raise OSError(f"cannot write {path}: {out.geterror()}")
     finally:
         out.close()
 

@@ -1,0 +1,161 @@
+"""The canvas EXR written a block of rows at a time: the same file, channel by channel and bit for
+bit, as the whole image converted and written at once (the way before the blocks)."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from paintapp.canvas import exr as canvas_io
+from paintapp.canvas.exr import read_canvas_exr, write_canvas_exr
+from paintapp.canvas.model import Canvas
+
+PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "titanium_white", "cadmium_red")
+
+
+def painted(pixels: tuple[int, int], surface: str = "smooth", seed: int = 0) -> Canvas:
+    """Random paint with bare texels, paint thinner than half's smallest normal fraction can
+    tell apart, and full wetness."""
+    rng = np.random.default_rng(seed)
+    w, h = pixels
+    canvas = Canvas(pixels, (w * 1e-4, h * 1e-4), PIGMENTS, surface=surface)
+    paint = rng.uniform(0.0, 2e-4, canvas.paint_m.shape).astype(np.float32)
+    paint[rng.uniform(size=paint.shape) < 0.3] = 0.0
+    paint[0, :5] = 1e-12  # one pigment's fraction far below the others'
+    paint[:, -3:, :7] = 0.0  # bare canvas
+    canvas.paint_m[:] = paint
+    canvas.wetness[:] = rng.uniform(0.0, 1.0, canvas.wetness.shape)
+    canvas.wetness[:2] = 1.0
+    return canvas
+
+
+def picture(canvas: Canvas, seed: int = 1) -> np.ndarray:
+    """Linear RGBA with the values a conversion to half could get wrong: NaN, infinities, values
+    past half's largest, half's subnormals, ties between two halves, negatives."""
+    rng = np.random.default_rng(seed)
+    rgba = rng.uniform(-0.1, 1.2, (canvas.height, canvas.width, 4)).astype(np.float32)
+    special = np.array(
+        [np.nan, np.inf, -np.inf, 7e4, 65504.0, 65520.0, -7e4, 3e-8, 6e-5, 1.0 + 2**-11, 0.0],
+        np.float32,
+    )
+    flat = rgba.reshape(-1)
+    step = min(7, flat.size // special.size)
+    flat[: special.size * step : step] = special
+    flat[-special.size :] = special
+    return rgba
+
+
+def old_pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
+    """The pixels as the whole-image way built them (the picture's values within half's range):
+    (H, W, C) float32, top row first."""
+    rgba = np.clip(np.nan_to_num(rgba, nan=0.0, posinf=65504.0, neginf=-65504.0), -65504, 65504)
+    channels = [rgba[..., i] for i in range(4)] + [canvas.height_m, canvas.wetness]
+    channels += list(canvas.concentration)
+    if canvas.has_tooth:
+        channels.append(canvas.tooth_m)
+    pixels = np.empty((canvas.height, canvas.width, len(channels)), np.float32)
+    for i, channel in enumerate(channels):
+        pixels[..., i] = channel[::-1]
+    return pixels
+
+
+def write_whole(monkeypatch, path, canvas, rgba, half) -> np.ndarray:
+    """Write ``canvas`` with the same spec as :func:`write_canvas_exr` but the whole-image way
+    (the old pixels, one ``write_image`` converting all of them); returns the blocks the module
+    built, joined."""
+    blocks: list[np.ndarray] = []
+
+    def whole(tmp, spec, parts):
+        for y0, block in parts:
+            assert y0 == sum(len(b) for b in blocks)
+            blocks.append(block.copy())
+        out = oiio.ImageOutput.create(str(tmp))
+        assert out.open(str(tmp), spec)
+        assert out.write_image(old_pixels(canvas, rgba)), out.geterror()
+        out.close()
+
+    with monkeypatch.context() as patch:
+        patch.setattr(canvas_io, "_write_image", whole)
+        write_canvas_exr(path, canvas, rgba, half=half, metadata={"stroke_file": "demo.jsonl"})
+    return np.concatenate(blocks)
+
+
+def stored(path) -> tuple[oiio.ImageSpec, dict[str, np.ndarray]]:
+    """The spec and each channel of an EXR as stored (half or float bits), by name."""
+    inp = oiio.ImageInput.open(str(path))
+    assert inp is not None, oiio.geterror()
+    try:
+        spec = inp.spec()
+        channels = {}
+        for c, name in enumerate(spec.channelnames):
+            pixels = inp.read_image(0, 0, c, c + 1, spec.channelformat(c))
+            channels[name] = np.asarray(pixels).copy()
+    finally:
+        inp.close()
+    return spec, channels
+
+
+def attributes(spec: oiio.ImageSpec) -> dict[str, object]:
+    """A spec's attributes, by name, but the time of writing."""
+    return {a.name: a.value for a in spec.extra_attribs if a.name != "DateTime"}
+
+
+@pytest.mark.parametrize(
+    ("pixels", "surface", "half", "block_rows"),
+    [
+        ((37, 50), "smooth", True, 16),  # three whole blocks and a part
+        ((37, 50), "fine_linen", True, 96),  # one block, with the tooth layer
+        ((64, 81), "gesso", False, 16),  # 32-bit everywhere, with the tooth
+        ((5, 3), "smooth", True, 96),  # fewer rows than a block
+    ],
+)
+def test_blocks_write_the_same_file_as_the_whole_image(
+    tmp_path, monkeypatch, pixels, surface, half, block_rows
+):
+    monkeypatch.setattr(canvas_io, "BLOCK_ROWS", block_rows)
+    canvas = painted(pixels, surface)
+    rgba = picture(canvas)
+    old, new = tmp_path / "old.exr", tmp_path / "new.exr"
+    built = write_whole(monkeypatch, old, canvas, rgba, half)
+    np.testing.assert_array_equal(built.view(np.uint32), old_pixels(canvas, rgba).view(np.uint32))
+    write_canvas_exr(new, canvas, rgba, half=half, metadata={"stroke_file": "demo.jsonl"})
+
+    old_spec, old_channels = stored(old)
+    new_spec, new_channels = stored(new)
+    assert list(new_spec.channelnames) == list(old_spec.channelnames)
+    assert [str(f) for f in new_spec.channelformats] == [str(f) for f in old_spec.channelformats]
+    assert (new_spec.width, new_spec.height, new_spec.tile_width) == (*canvas.pixels, 0)
+    assert attributes(new_spec) == attributes(old_spec)
+    for name, values in old_channels.items():
+        assert new_channels[name].dtype == values.dtype, name
+        np.testing.assert_array_equal(
+            new_channels[name].view(np.uint8), values.view(np.uint8), err_msg=name
+        )
+    if half:
+        assert new_channels["R"].dtype == np.float16
+    assert new_channels["paint.height"].dtype == np.float32
+    for name, values in new_channels.items():  # nothing non-finite in the file
+        assert np.isfinite(values).all(), name
+
+    back, before = read_canvas_exr(new), read_canvas_exr(old)
+    assert back.surface == before.surface == surface
+    np.testing.assert_array_equal(back.paint_m, before.paint_m)
+    np.testing.assert_array_equal(back.wetness, before.wetness)
+
+
+def test_a_failed_write_stops_the_block_thread(tmp_path, monkeypatch):
+    monkeypatch.setattr(canvas_io, "BLOCK_ROWS", 16)
+    canvas = painted((30, 90))
+
+    def fail_after_one(tmp, spec, parts):
+        next(iter(parts))
+        raise OSError("disk full")
+
+    monkeypatch.setattr(canvas_io, "_write_image", fail_after_one)
+    with pytest.raises(OSError, match="disk full"):
+        write_canvas_exr(tmp_path / "c.exr", canvas, picture(canvas))
+    assert not any(t.name.startswith("exr-block") for t in threading.enumerate())
+    assert list(tmp_path.iterdir()) == []
