@@ -124,9 +124,9 @@ def bench_render(pixels: int, repeats: int) -> dict[str, float] | None:
             "dirty": 1e3 * t.dirty_64_upload_s, "readback": 1e3 * t.readback_s}  # fmt: skip
 
 
-def bench_demo(runs: int) -> tuple[list[float], float, EdgeWidth]:
-    """Wall seconds of each whole demo replay, the recording's length (s), and the edge width
-    of the last replay's canvas (:mod:`paintapp.canvas.edges`)."""
+def bench_demo(runs: int) -> tuple[list[float], float, tuple[EdgeWidth, EdgeWidth]]:
+    """Wall seconds of each whole demo replay, the recording's length (s), and the edge widths
+    (global and local) of the last replay's canvas (:mod:`paintapp.canvas.edges`)."""
     strokes = on_canvas(read_strokes(asset_path("strokes", "demo.jsonl")), DEMO_SHEET, 0.1)
     scene = load_paint_scene(DEMO_SCENE)
     result = replay(strokes, scene)  # warm-up: compiled kernels, caches
@@ -135,7 +135,8 @@ def bench_demo(runs: int) -> tuple[list[float], float, EdgeWidth]:
         start = time.perf_counter()
         result = replay(strokes, scene)
         times.append(time.perf_counter() - start)
-    return times, strokes.duration_s, paint_edge_width(result.canvas.paint_m)
+    paint = result.canvas.paint_m
+    return times, strokes.duration_s, (paint_edge_width(paint), paint_edge_width(paint, True))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -186,7 +187,8 @@ def main(argv: list[str] | None = None) -> int:
             ratios = [t / duration_s for t in times]
             print(f"Demo real-time ratio (wall s per recorded s, {duration_s:.1f} s recorded): "
                   f"median {statistics.median(ratios):.2f} ({', '.join(f'{r:.2f}' for r in ratios)})")  # fmt: skip
-        print(f"Demo canvas {edge.describe()}")
+        print(f"Demo canvas {edge[0].describe()}")
+        print(f"Demo canvas {edge[1].describe()}")
     return 0
 
 

@@ -20,8 +20,16 @@ A canvas with no painted texel, or whose paint has no 50 % contour (the same thi
 everywhere), has no edge to measure: its width is NaN (not 0, which would read as a perfectly
 sharp edge), with ``contour_texels`` 0 (:attr:`EdgeWidth.has_edge` is False).
 
-``python -m paintapp.canvas.edges DIR`` prints the edge width of ``DIR/canvas.exr`` (as
-``paintapp demo --out DIR`` writes it) on one line.
+**The local measure** (:func:`local_edge_width`) takes the scale per texel instead: ``T90``
+of the painted texels within :data:`LOCAL_TILES` x :data:`LOCAL_TILES` tiles of
+:data:`TILE_TEXELS` texels around it (about 10 mm at 0.1 mm texels), interpolated between the
+tiles' centres. On a canvas whose strokes are of different thicknesses, the global ``T90`` is set
+by the thickest, and the whole body of a thinner stroke (under half of it) counts as ramp; the
+local scale follows each stroke's own thickness, so what it counts is the ramps at the strokes'
+edges. Both read the same on strokes of one thickness.
+
+``python -m paintapp.canvas.edges DIR`` prints both edge widths of ``DIR/canvas.exr`` (as
+``paintapp demo --out DIR`` writes it), one line each.
 """
 
 from __future__ import annotations
@@ -40,6 +48,10 @@ RAMP_LOW, RAMP_HIGH = 0.05, 0.5
 CONTOUR_LEVEL = 0.5
 #: The percentile of the painted texels' thickness that sets the scale.
 SCALE_PERCENTILE = 90.0
+#: The local measure's tiles: texels a side, and tiles a side of the block around each tile
+#: whose painted texels set its scale.
+TILE_TEXELS = 32
+LOCAL_TILES = 3
 
 
 @dataclass(frozen=True)
@@ -51,12 +63,15 @@ class EdgeWidth:
         t90_m: the 90th percentile of the painted texels' thickness, metres (0 without paint).
         ramp_texels: texels with a thickness in ``[0.05, 0.5] x T90``.
         contour_texels: texels of at least ``0.5 T90`` with a 4-neighbour below it.
+        local: measured against the local ``T90`` (:func:`local_edge_width`; ``t90_m`` is still
+            the global one).
     """
 
     width_texels: float
     t90_m: float
     ramp_texels: int
     contour_texels: int
+    local: bool = False
 
     @property
     def has_edge(self) -> bool:
@@ -71,9 +86,16 @@ class EdgeWidth:
                 f"{self.ramp_texels} ramp texels)"
             )
         mm = f" ({1e3 * self.width_texels * texel_m:.3g} mm)" if texel_m else ""
+        band = f"{100 * RAMP_LOW:g}-{100 * RAMP_HIGH:g} %"
+        if self.local:
+            return (
+                f"local edge width {self.width_texels:.3g} texels{mm}: {self.ramp_texels} texels "
+                f"at {band} of the local T90, {self.contour_texels} on its "
+                f"{100 * CONTOUR_LEVEL:g} % contour"
+            )
         return (
             f"edge width {self.width_texels:.3g} texels{mm}: {self.ramp_texels} texels at "
-            f"{100 * RAMP_LOW:g}-{100 * RAMP_HIGH:g} % of T90 = {1e3 * self.t90_m:.4g} mm, "
+            f"{band} of T90 = {1e3 * self.t90_m:.4g} mm, "
             f"{self.contour_texels} on the {100 * CONTOUR_LEVEL:g} % contour"
         )
 
@@ -105,9 +127,91 @@ def edge_width(thickness_m: np.ndarray) -> EdgeWidth:
     return EdgeWidth(width, t90, ramp, contour)
 
 
-def paint_edge_width(paint_m: np.ndarray) -> EdgeWidth:
-    """The edge width of a canvas's paint, (P, H, W) metres per pigment (summed over P)."""
-    return edge_width(np.asarray(paint_m).sum(axis=0, dtype=np.float64))
+def local_scale(thickness_m: np.ndarray) -> np.ndarray:
+    """(H, W) float64: the local ``T90`` of the module docstring at every texel (0 where no
+    tile block near it holds paint)."""
+    thickness = np.asarray(thickness_m, dtype=np.float64)
+    h, w = thickness.shape
+    t, half = TILE_TEXELS, LOCAL_TILES // 2
+    ty, tx = -(-h // t), -(-w // t)
+    painted = np.zeros((ty * t, tx * t), dtype=bool)
+    painted[:h, :w] = thickness > FILM_FLOOR_M
+    any_paint = painted.reshape(ty, t, tx, t).any(axis=(1, 3))
+    tiles = np.zeros((ty, tx))
+    for j, i in zip(*np.nonzero(_grow(any_paint, half)), strict=True):
+        y0, y1 = max(0, (j - half) * t), min(h, (j + half + 1) * t)
+        x0, x1 = max(0, (i - half) * t), min(w, (i + half + 1) * t)
+        block = thickness[y0:y1, x0:x1]
+        values = block[block > FILM_FLOOR_M]
+        if values.size:
+            tiles[j, i] = np.percentile(values, SCALE_PERCENTILE)
+    # linear between the tiles' centres, constant beyond the outer ones
+    rows = np.interp(np.arange(h) + 0.5, (np.arange(ty) + 0.5) * t, np.arange(ty))
+    cols = np.interp(np.arange(w) + 0.5, (np.arange(tx) + 0.5) * t, np.arange(tx))
+    r0 = np.minimum(rows.astype(int), max(ty - 2, 0))
+    c0 = np.minimum(cols.astype(int), max(tx - 2, 0))
+    r1, c1 = np.minimum(r0 + 1, ty - 1), np.minimum(c0 + 1, tx - 1)
+    fr, fc = (rows - r0)[:, None], (cols - c0)[None, :]
+    top = tiles[r0][:, c0] * (1 - fc) + tiles[r0][:, c1] * fc
+    bottom = tiles[r1][:, c0] * (1 - fc) + tiles[r1][:, c1] * fc
+    return top * (1 - fr) + bottom * fr
+
+
+def _grow(mask: np.ndarray, reach: int) -> np.ndarray:
+    """``mask`` grown by ``reach`` cells in every direction (a square)."""
+    out = mask.copy()
+    for _ in range(reach):
+        grown = out.copy()
+        grown[1:] |= out[:-1]
+        grown[:-1] |= out[1:]
+        grown[:, 1:] |= grown[:, :-1].copy()
+        grown[:, :-1] |= grown[:, 1:].copy()
+        out = grown
+    return out
+
+
+def _painted_tiles(thickness: np.ndarray) -> tuple[slice, slice]:
+    """The rows and columns of the whole tiles round the painted texels, with a margin of tiles
+    whose scale is 0: the local measure reads the same on them as on the whole map."""
+    rows = np.flatnonzero((thickness > FILM_FLOOR_M).any(axis=1))
+    cols = np.flatnonzero((thickness > FILM_FLOOR_M).any(axis=0))
+    t, margin = TILE_TEXELS, (LOCAL_TILES // 2 + 1) * TILE_TEXELS
+    r0, c0 = max(0, (rows[0] // t) * t - margin), max(0, (cols[0] // t) * t - margin)
+    r1, c1 = (rows[-1] // t + 1) * t + margin, (cols[-1] // t + 1) * t + margin
+    return slice(r0, r1), slice(c0, c1)
+
+
+def local_edge_width(thickness_m: np.ndarray) -> EdgeWidth:
+    """The local edge width (module docstring) of an (H, W) map of total paint thickness,
+    metres; its ``t90_m`` is the global ``T90`` (for reference)."""
+    thickness = np.asarray(thickness_m, dtype=np.float64)
+    if thickness.ndim != 2:
+        raise ValueError(f"expected an (H, W) thickness map, got shape {thickness.shape}")
+    painted = thickness[thickness > FILM_FLOOR_M]
+    if painted.size == 0:
+        return EdgeWidth(math.nan, 0.0, 0, 0, local=True)
+    t90 = float(np.percentile(painted, SCALE_PERCENTILE))
+    thickness = thickness[_painted_tiles(thickness)]
+    scale = local_scale(thickness)
+    inside = scale > 0.0
+    ramp = inside & (thickness >= RAMP_LOW * scale) & (thickness <= RAMP_HIGH * scale)
+    above = inside & (thickness >= CONTOUR_LEVEL * scale)
+    below = ~above
+    edge = np.zeros_like(above)
+    edge[1:, :] |= below[:-1, :]
+    edge[:-1, :] |= below[1:, :]
+    edge[:, 1:] |= below[:, :-1]
+    edge[:, :-1] |= below[:, 1:]
+    contour = int(np.count_nonzero(above & edge))
+    count = int(np.count_nonzero(ramp))
+    return EdgeWidth(count / contour if contour else math.nan, t90, count, contour, local=True)
+
+
+def paint_edge_width(paint_m: np.ndarray, local: bool = False) -> EdgeWidth:
+    """The edge width of a canvas's paint, (P, H, W) metres per pigment (summed over P); the
+    local measure with ``local``."""
+    thickness = np.asarray(paint_m).sum(axis=0, dtype=np.float64)
+    return local_edge_width(thickness) if local else edge_width(thickness)
 
 
 def main(argv: list[str]) -> int:
@@ -121,7 +225,9 @@ def main(argv: list[str]) -> int:
     except (OSError, InputError) as err:
         print(f"edges: error: {err} (expected a paintapp demo folder)", file=sys.stderr)
         return 2
-    print(paint_edge_width(canvas.paint_m).describe(canvas.texel_size_m[0]))
+    texel = canvas.texel_size_m[0]
+    print(paint_edge_width(canvas.paint_m).describe(texel))
+    print(paint_edge_width(canvas.paint_m, local=True).describe(texel))
     return 0
 
 

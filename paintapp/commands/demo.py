@@ -143,8 +143,9 @@ def run(args: argparse.Namespace) -> int:
         f"{len(forces)} servo ticks, peak force {peak:.3g} N; "
         f"{realtime(result.wall_s, strokes.duration_s)}"
     )
-    edge = paint_edge_width(result.canvas.paint_m)
-    print(f"paint {edge.describe(result.canvas.texel_size_m[0])}")
+    texel = result.canvas.texel_size_m[0]
+    print(f"paint {paint_edge_width(result.canvas.paint_m).describe(texel)}")
+    print(f"paint {paint_edge_width(result.canvas.paint_m, local=True).describe(texel)}")
     for name in OUTPUT_NAMES:
         print(f"wrote {out / name}")
     print(f"done in {time.perf_counter() - start:.1f} s")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
 
-from paintapp.canvas.edges import edge_width, main, paint_edge_width
+from paintapp.canvas.edges import edge_width, local_edge_width, main, paint_edge_width
 from paintapp.canvas.model import Canvas
 
 H_M = 2e-4  # plateau thickness, m
@@ -112,7 +112,10 @@ def test_the_command_prints_the_edge_width_of_a_canvas_file(tmp_path, capsys):
     out = capsys.readouterr().out.splitlines()
     read = paint_edge_width(read_canvas_exr(tmp_path / "canvas.exr").paint_m)
     assert read.width_texels == pytest.approx(9.0)  # a straight ramp over 20 texels: 0.45 N
-    assert out == [read.describe(1e-4)] and out[0].startswith("edge width 9 texels (0.9 mm)")
+    local = paint_edge_width(read_canvas_exr(tmp_path / "canvas.exr").paint_m, local=True)
+    assert out == [read.describe(1e-4), local.describe(1e-4)]
+    assert out[0].startswith("edge width 9 texels (0.9 mm)")
+    assert out[1].startswith("local edge width 9 texels (0.9 mm)")
 
 
 def test_the_command_names_a_missing_or_bad_folder_in_one_line(tmp_path, capsys):
@@ -129,3 +132,40 @@ def test_the_command_names_a_missing_or_bad_folder_in_one_line(tmp_path, capsys)
     assert run.returncode == 2 and run.stdout == ""
     assert run.stderr.startswith("edges: error: ") and run.stderr.count("\n") == 1
     assert "Traceback" not in run.stderr and "demo folder" in run.stderr
+
+
+def strips(plateaus: tuple[float, ...], ramp: float, n: int = 400) -> np.ndarray:
+    """Horizontal strips 60 texels wide, 100 texels apart, each of its own plateau thickness,
+    falling linearly to 0 over ``ramp`` texels on both sides."""
+    y = np.arange(n) + 0.5
+    column = np.zeros(n)
+    for k, plateau in enumerate(plateaus):
+        centre = 60.0 + 120.0 * k
+        inside = np.clip(1.0 - (np.abs(y - centre) - 30.0) / ramp, 0.0, 1.0)
+        column += plateau * inside
+    return np.tile(column[:, None], (1, 300))
+
+
+def test_the_local_measure_reads_one_thickness_as_the_global_one():
+    thickness = strips((H_M, H_M, H_M), 20.0)
+    assert local_edge_width(thickness).width_texels == pytest.approx(
+        edge_width(thickness).width_texels, rel=0.02
+    )
+    assert local_edge_width(thickness).width_texels == pytest.approx(9.0, rel=0.05)
+
+
+def test_the_local_measure_takes_a_thin_strokes_body_for_a_body():
+    """Strips of 1, 1/4 and 1 plateau with the same 20-texel ramps: the global T90 is the thick
+    ones', so the thin strip's whole body counts as ramp; against the local scale each edge
+    measures about 0.45 N (more where a tile's block holds both thicknesses)."""
+    thickness = strips((H_M, 0.25 * H_M, H_M), 20.0)
+    globally, locally = edge_width(thickness), local_edge_width(thickness)
+    assert globally.width_texels > 15.0
+    assert locally.width_texels == pytest.approx(9.0, rel=0.15)
+    assert locally.local and not globally.local
+    assert "local T90" in locally.describe() and locally.t90_m == globally.t90_m
+
+
+def test_the_local_measure_without_paint_or_edge():
+    assert math.isnan(local_edge_width(np.zeros((50, 60))).width_texels)
+    assert math.isnan(local_edge_width(np.full((50, 60), 1e-4)).width_texels)
