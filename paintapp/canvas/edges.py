@@ -102,7 +102,12 @@ class EdgeWidth:
 
 def contour_mask(thickness_m: np.ndarray, level_m: float) -> np.ndarray:
     """(H, W) bool: texels of at least ``level_m`` with a 4-neighbour inside the array below it."""
-    above = np.asarray(thickness_m) >= level_m
+    return outline(np.asarray(thickness_m) >= level_m)
+
+
+def outline(above: np.ndarray) -> np.ndarray:
+    """(H, W) bool: the texels of the mask ``above`` with a 4-neighbour inside the array not in
+    it."""
     below = ~above
     edge = np.zeros_like(above)
     edge[1:, :] |= below[:-1, :]
@@ -195,14 +200,7 @@ def local_edge_width(thickness_m: np.ndarray) -> EdgeWidth:
     scale = local_scale(thickness)
     inside = scale > 0.0
     ramp = inside & (thickness >= RAMP_LOW * scale) & (thickness <= RAMP_HIGH * scale)
-    above = inside & (thickness >= CONTOUR_LEVEL * scale)
-    below = ~above
-    edge = np.zeros_like(above)
-    edge[1:, :] |= below[:-1, :]
-    edge[:-1, :] |= below[1:, :]
-    edge[:, 1:] |= below[:, :-1]
-    edge[:, :-1] |= below[:, 1:]
-    contour = int(np.count_nonzero(above & edge))
+    contour = int(np.count_nonzero(outline(inside & (thickness >= CONTOUR_LEVEL * scale))))
     count = int(np.count_nonzero(ramp))
     return EdgeWidth(count / contour if contour else math.nan, t90, count, contour, local=True)
 

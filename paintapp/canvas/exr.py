@@ -190,6 +190,23 @@ def _write_image(
         out.close()
 
 
+def stored_channels(path: str | Path) -> tuple[oiio.ImageSpec, dict[str, np.ndarray]]:
+    """The spec of an EXR and each of its channels by name, (H, W, 1) in the type it is stored
+    in (float16 or float32, image rows top first), for comparing files bit for bit."""
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise OSError(f"cannot open {path}: {oiio.geterror()}")
+    try:
+        spec = inp.spec()
+        channels = {}
+        for c, name in enumerate(spec.channelnames):
+            pixels = inp.read_image(0, 0, c, c + 1, spec.channelformat(c))
+            channels[name] = np.asarray(pixels).copy()
+    finally:
+        inp.close()
+    return spec, channels
+
+
 def _read_info(spec: oiio.ImageSpec, source: str) -> dict:
     raw = spec.getattribute(META_KEY)
     if not isinstance(raw, str):

@@ -10,7 +10,7 @@ import OpenImageIO as oiio
 import pytest
 
 from paintapp.canvas import exr as canvas_io
-from paintapp.canvas.exr import read_canvas_exr, write_canvas_exr
+from paintapp.canvas.exr import read_canvas_exr, stored_channels, write_canvas_exr
 from paintapp.canvas.model import Canvas
 
 PIGMENTS = ("ultramarine_blue", "cadmium_yellow", "titanium_white", "cadmium_red")
@@ -83,21 +83,6 @@ def write_whole(monkeypatch, path, canvas, rgba, half) -> np.ndarray:
     return np.concatenate(blocks)
 
 
-def stored(path) -> tuple[oiio.ImageSpec, dict[str, np.ndarray]]:
-    """The spec and each channel of an EXR as stored (half or float bits), by name."""
-    inp = oiio.ImageInput.open(str(path))
-    assert inp is not None, oiio.geterror()
-    try:
-        spec = inp.spec()
-        channels = {}
-        for c, name in enumerate(spec.channelnames):
-            pixels = inp.read_image(0, 0, c, c + 1, spec.channelformat(c))
-            channels[name] = np.asarray(pixels).copy()
-    finally:
-        inp.close()
-    return spec, channels
-
-
 def attributes(spec: oiio.ImageSpec) -> dict[str, object]:
     """A spec's attributes, by name, but the time of writing."""
     return {a.name: a.value for a in spec.extra_attribs if a.name != "DateTime"}
@@ -123,8 +108,8 @@ def test_blocks_write_the_same_file_as_the_whole_image(
     np.testing.assert_array_equal(built.view(np.uint32), old_pixels(canvas, rgba).view(np.uint32))
     write_canvas_exr(new, canvas, rgba, half=half, metadata={"stroke_file": "demo.jsonl"})
 
-    old_spec, old_channels = stored(old)
-    new_spec, new_channels = stored(new)
+    old_spec, old_channels = stored_channels(old)
+    new_spec, new_channels = stored_channels(new)
     assert list(new_spec.channelnames) == list(old_spec.channelnames)
     assert [str(f) for f in new_spec.channelformats] == [str(f) for f in old_spec.channelformats]
     assert (new_spec.width, new_spec.height, new_spec.tile_width) == (*canvas.pixels, 0)
