@@ -141,7 +141,7 @@ def local_scale(thickness_m: np.ndarray) -> np.ndarray:
     ty, tx = -(-h // t), -(-w // t)
     painted = np.zeros((ty * t, tx * t), dtype=bool)
     painted[:h, :w] = thickness > FILM_FLOOR_M
-    any_paint = painted.reshape(ty, t, tx, t).any(axis=(1, 3))
+    any_paint = np.asarray(painted.reshape(ty, t, tx, t).any(axis=(1, 3)), dtype=bool)
     tiles = np.zeros((ty, tx))
     for j, i in zip(*np.nonzero(_grow(any_paint, half)), strict=True):
         y0, y1 = max(0, (j - half) * t), min(h, (j + half + 1) * t)
