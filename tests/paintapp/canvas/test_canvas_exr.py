@@ -22,7 +22,13 @@ from paintapp.canvas.exr import (
     write_canvas_exr,
 )
 from paintapp.canvas.model import Canvas
-from paintapp.canvas.preview import encode_preview, write_preview_png
+from paintapp.canvas.preview import (
+    _srgb8_tables,
+    encode_preview,
+    srgb8,
+    srgb8_reference,
+    write_preview_png,
+)
 
 
 def painted_canvas(seed: int = 0) -> Canvas:
@@ -219,6 +225,25 @@ def test_preview_is_srgb_encoded_8_bit_with_the_top_row_first(tmp_path):
     assert inp.spec().format == oiio.UINT8
     np.testing.assert_array_equal(inp.read_image(0, 0, 0, 3, "uint8"), pixels)
     inp.close()
+
+
+def test_the_preview_s_codes_are_the_srgb_transfer_function_s():
+    """The table lookup gives the codes of encoding in float64 and rounding, at every step
+    between two codes (and three float32s either side), on a sweep of the float32s in [0, 1],
+    and on what is clipped or replaced."""
+    _, step_bits = _srgb8_tables()
+    steps = step_bits[step_bits < np.iinfo(np.int32).max]
+    assert len(steps) == 255
+    near = (steps[:, None] + np.arange(-3, 4)[None, :]).ravel().astype(np.int32)
+    one = int(np.float32(1.0).view(np.int32))
+    sweep = np.arange(0, one + 1, 997, dtype=np.int32)
+    special = np.array(
+        [np.nan, -np.nan, np.inf, -np.inf, -0.0, 0.0, 1.0, 2.0, -1.0, 1e-45, 0.0031308, 0.18],
+        np.float32,
+    )
+    for values in (near.view(np.float32), sweep.view(np.float32), special):
+        np.testing.assert_array_equal(srgb8(values), srgb8_reference(values))
+    assert list(srgb8(special[:5])) == [0, 0, 255, 0, 0]
 
 
 def _claim_size(path, out, width: int, height: int) -> None:
