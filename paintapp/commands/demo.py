@@ -88,7 +88,12 @@ def run(args: argparse.Namespace) -> int:
     from paintapp.canvas.edges import paint_edge_width
     from paintapp.canvas.surfaces import surface_spec
     from paintapp.resources import asset_path
-    from paintapp.session.outputs import plot_forces, write_canvas_outputs, write_forces_csv
+    from paintapp.session.outputs import (
+        canvas_picture,
+        plot_forces,
+        write_canvas_outputs,
+        write_forces_csv,
+    )
     from paintapp.strokes.files import read_strokes
 
     start = time.perf_counter()
@@ -119,7 +124,9 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.explain:
         print_explanation(result, args.fidelity)
-    # the force plot is drawn on a thread of its own while the canvas's files are written
+    # the picture first, alone (its draw holds the interpreter lock); then the force plot on a
+    # thread of its own while the canvas's files are written
+    picture = canvas_picture(result.canvas, lit=not args.flat)
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="plot") as pool:
         title = f"force on the brush: {Path(source).name}"
         plot = pool.submit(plot_forces, out / "forces.png", result.forces, title)
@@ -128,8 +135,8 @@ def run(args: argparse.Namespace) -> int:
                 result.canvas,
                 out / "canvas.exr",
                 out / "preview.png",
-                lit=not args.flat,
                 half=args.half,
+                picture=picture,
             )
             write_forces_csv(out / "forces.csv", result.forces)
             write_strokes(out / "strokes.jsonl", strokes)

@@ -54,13 +54,14 @@ def write_canvas_outputs(
     *,
     lit: bool = True,
     half: bool = True,
+    picture: np.ndarray | None = None,
 ) -> None:
-    """Write the canvas EXR and/or a PNG preview (one picture for both; the preview is encoded on
-    a thread of its own while the EXR is written: both compress with the interpreter lock
-    released)."""
+    """Write the canvas EXR and/or a PNG preview (one picture for both, ``picture`` where given,
+    else :func:`canvas_picture`'s; the preview is encoded on a thread of its own while the EXR is
+    written: both compress with the interpreter lock released)."""
     if exr is None and preview is None:
         return
-    rgba = canvas_picture(canvas, lit=lit)
+    rgba = canvas_picture(canvas, lit=lit) if picture is None else picture
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="preview") as pool:
         png = pool.submit(write_preview_png, preview, rgba) if preview is not None else None
         try:
