@@ -35,7 +35,7 @@ from tqdm import tqdm
 from brushes import BrushPreset
 from paintapp.app.options import PaintOptions
 from paintapp.app.settings import PaintSettings, make_preset, make_scene
-from paintapp.canvas.edges import EdgeWidth, paint_edge_width
+from paintapp.canvas.edges import EdgeWidth, paint_edge_widths
 from paintapp.canvas.model import Canvas
 from paintapp.commands.demo import DEMO_SCENE, DEMO_SHEET, on_canvas
 from paintapp.paint.paint_scene import PaintScene, load_paint_scene
@@ -135,8 +135,7 @@ def bench_demo(runs: int) -> tuple[list[float], float, tuple[EdgeWidth, EdgeWidt
         start = time.perf_counter()
         result = replay(strokes, scene)
         times.append(time.perf_counter() - start)
-    paint = result.canvas.paint_m
-    return times, strokes.duration_s, (paint_edge_width(paint), paint_edge_width(paint, True))
+    return times, strokes.duration_s, paint_edge_widths(result.canvas.paint_m)
 
 
 def main(argv: list[str] | None = None) -> int:

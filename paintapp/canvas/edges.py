@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy.ndimage import binary_dilation
 
 from paintapp.canvas.model import FILM_FLOOR_M
 
@@ -143,7 +144,8 @@ def local_scale(thickness_m: np.ndarray) -> np.ndarray:
     painted[:h, :w] = thickness > FILM_FLOOR_M
     any_paint = np.asarray(painted.reshape(ty, t, tx, t).any(axis=(1, 3)), dtype=bool)
     tiles = np.zeros((ty, tx))
-    for j, i in zip(*np.nonzero(_grow(any_paint, half)), strict=True):
+    near = binary_dilation(any_paint, np.ones((LOCAL_TILES, LOCAL_TILES), dtype=bool))
+    for j, i in zip(*np.nonzero(near), strict=True):
         y0, y1 = max(0, (j - half) * t), min(h, (j + half + 1) * t)
         x0, x1 = max(0, (i - half) * t), min(w, (i + half + 1) * t)
         block = thickness[y0:y1, x0:x1]
@@ -160,19 +162,6 @@ def local_scale(thickness_m: np.ndarray) -> np.ndarray:
     top = tiles[r0][:, c0] * (1 - fc) + tiles[r0][:, c1] * fc
     bottom = tiles[r1][:, c0] * (1 - fc) + tiles[r1][:, c1] * fc
     return top * (1 - fr) + bottom * fr
-
-
-def _grow(mask: np.ndarray, reach: int) -> np.ndarray:
-    """``mask`` grown by ``reach`` cells in every direction (a square)."""
-    out = mask.copy()
-    for _ in range(reach):
-        grown = out.copy()
-        grown[1:] |= out[:-1]
-        grown[:-1] |= out[1:]
-        grown[:, 1:] |= grown[:, :-1].copy()
-        grown[:, :-1] |= grown[:, 1:].copy()
-        out = grown
-    return out
 
 
 def _painted_tiles(thickness: np.ndarray) -> tuple[slice, slice]:
@@ -205,11 +194,16 @@ def local_edge_width(thickness_m: np.ndarray) -> EdgeWidth:
     return EdgeWidth(count / contour if contour else math.nan, t90, count, contour, local=True)
 
 
-def paint_edge_width(paint_m: np.ndarray, local: bool = False) -> EdgeWidth:
-    """The edge width of a canvas's paint, (P, H, W) metres per pigment (summed over P); the
-    local measure with ``local``."""
+def paint_edge_width(paint_m: np.ndarray) -> EdgeWidth:
+    """The edge width of a canvas's paint, (P, H, W) metres per pigment (summed over P)."""
+    return edge_width(np.asarray(paint_m).sum(axis=0, dtype=np.float64))
+
+
+def paint_edge_widths(paint_m: np.ndarray) -> tuple[EdgeWidth, EdgeWidth]:
+    """The global and the local edge width of a canvas's paint, (P, H, W) metres per pigment
+    (summed over P once for both)."""
     thickness = np.asarray(paint_m).sum(axis=0, dtype=np.float64)
-    return local_edge_width(thickness) if local else edge_width(thickness)
+    return edge_width(thickness), local_edge_width(thickness)
 
 
 def main(argv: list[str]) -> int:
@@ -224,8 +218,8 @@ def main(argv: list[str]) -> int:
         print(f"edges: error: {err} (expected a paintapp demo folder)", file=sys.stderr)
         return 2
     texel = canvas.texel_size_m[0]
-    print(paint_edge_width(canvas.paint_m).describe(texel))
-    print(paint_edge_width(canvas.paint_m, local=True).describe(texel))
+    for width in paint_edge_widths(canvas.paint_m):
+        print(width.describe(texel))
     return 0
 
 

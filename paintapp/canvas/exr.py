@@ -77,8 +77,9 @@ BLOCK_ROWS = 96
 
 def _fill_block(canvas: Canvas, rgba: np.ndarray, y0: int, y1: int, out: np.ndarray) -> np.ndarray:
     """File rows ``y0:y1`` (top first) of the pixels, (y1 - y0, W, C) float32, in ``out``:
-    RGBA (non-finite values replaced, all within +-:data:`HALF_MAX`), height, wetness, concentrations, tooth; each channel
-    computed for these rows only and copied once, flipped, into its place."""
+    RGBA (non-finite values replaced, all within +-:data:`HALF_MAX`), height, wetness,
+    concentrations, tooth; each channel computed for these rows only and copied once, flipped,
+    into its place."""
     rows = slice(canvas.height - y1, canvas.height - y0)  # the same texels, bottom first
     block = out[: y1 - y0]
     picture = block[..., :4]

@@ -85,7 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from paintapp.canvas.edges import paint_edge_width
+    from paintapp.canvas.edges import paint_edge_widths
     from paintapp.canvas.surfaces import surface_spec
     from paintapp.resources import asset_path
     from paintapp.session.outputs import (
@@ -151,8 +151,8 @@ def run(args: argparse.Namespace) -> int:
         f"{realtime(result.wall_s, strokes.duration_s)}"
     )
     texel = result.canvas.texel_size_m[0]
-    print(f"paint {paint_edge_width(result.canvas.paint_m).describe(texel)}")
-    print(f"paint {paint_edge_width(result.canvas.paint_m, local=True).describe(texel)}")
+    for width in paint_edge_widths(result.canvas.paint_m):
+        print(f"paint {width.describe(texel)}")
     for name in OUTPUT_NAMES:
         print(f"wrote {out / name}")
     print(f"done in {time.perf_counter() - start:.1f} s")

@@ -10,7 +10,13 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
 
-from paintapp.canvas.edges import edge_width, local_edge_width, main, paint_edge_width
+from paintapp.canvas.edges import (
+    edge_width,
+    local_edge_width,
+    main,
+    paint_edge_width,
+    paint_edge_widths,
+)
 from paintapp.canvas.model import Canvas
 
 H_M = 2e-4  # plateau thickness, m
@@ -110,9 +116,8 @@ def test_the_command_prints_the_edge_width_of_a_canvas_file(tmp_path, capsys):
     write_canvas_exr(tmp_path / "canvas.exr", canvas, np.ones((16, 120, 4)), half=False)
     assert main([str(tmp_path)]) == 0
     out = capsys.readouterr().out.splitlines()
-    read = paint_edge_width(read_canvas_exr(tmp_path / "canvas.exr").paint_m)
+    read, local = paint_edge_widths(read_canvas_exr(tmp_path / "canvas.exr").paint_m)
     assert read.width_texels == pytest.approx(9.0)  # a straight ramp over 20 texels: 0.45 N
-    local = paint_edge_width(read_canvas_exr(tmp_path / "canvas.exr").paint_m, local=True)
     assert out == [read.describe(1e-4), local.describe(1e-4)]
     assert out[0].startswith("edge width 9 texels (0.9 mm)")
     assert out[1].startswith("local edge width 9 texels (0.9 mm)")
