@@ -13,12 +13,12 @@ both ways are read back with OpenImageIO and compared channel by channel (they m
 for bit).
 
     python benchmarks/bench_outputs.py [--rounds 5] [--rev HEAD] [--no-outputs]
-        [--compression zip:1] [--exr-threads N] [--block-rows N] [--surface NAME]
+        [--exr-threads N] [--block-rows N] [--surface NAME]
     python benchmarks/bench_outputs.py --overlap-probe [--rounds 5]
 
-``--compression``, ``--exr-threads`` and ``--block-rows`` add ``exr`` rows of the working tree's
-way with that zip level, with that many OpenEXR threads (OpenImageIO's global ``exr_threads``),
-or with that many rows a block. ``--overlap-probe`` times only the lit picture and the EXR's paint
+``--exr-threads`` and ``--block-rows`` add ``exr`` rows of the working tree's way with that many
+OpenEXR threads (``paintapp.canvas.exr.EXR_THREADS``; 0 compresses on the calling thread) or with
+that many rows a block. ``--overlap-probe`` times only the lit picture and the EXR's paint
 channels, one after the other and on two threads side by side.
 """
 
@@ -37,7 +37,6 @@ from pathlib import Path
 from types import ModuleType
 
 import numpy as np
-import OpenImageIO as oiio
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -117,17 +116,6 @@ def patched(module: ModuleType, name: str, value: object, fn: Callable[[], None]
         setattr(module, name, real)
 
 
-def zip_level_writer(level: str) -> Callable[..., None]:
-    """The working tree's ``_write_image`` with the zip level ``level``."""
-    real = new_exr._write_image
-
-    def write(path, spec, blocks) -> None:
-        spec.attribute("compression", level)
-        real(path, spec, blocks)
-
-    return write
-
-
 def overlap_probe(canvas: Canvas, rounds: int) -> None:
     """The lit picture and the EXR's paint channels (all blocks, picture channels zero), one
     after the other and side by side on two threads: whether the render leaves room for them."""
@@ -160,7 +148,6 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--rev", default="HEAD", help="the git revision of the old way")
     parser.add_argument("--no-outputs", action="store_true", help="only the EXR rows")
-    parser.add_argument("--compression", default=None, help="an extra row: this zip level")
     parser.add_argument("--exr-threads", type=int, default=None, help="an extra row")
     parser.add_argument("--block-rows", type=int, default=None, help="an extra row")
     parser.add_argument("--surface", default="smooth")
@@ -184,13 +171,6 @@ def main() -> None:
             "exr old": lambda: old_exr.write_canvas_exr(tmp / "old.exr", canvas, rgba),
             "exr new": lambda: new_exr.write_canvas_exr(tmp / "new.exr", canvas, rgba),
         }
-        if args.compression:
-            cases[f"exr new, {args.compression}"] = lambda: patched(
-                new_exr,
-                "_write_image",
-                zip_level_writer(args.compression),
-                lambda: new_exr.write_canvas_exr(tmp / "zip.exr", canvas, rgba),
-            )
         if args.block_rows:
             cases[f"exr new, {args.block_rows} rows a block"] = lambda: patched(
                 new_exr,
@@ -199,16 +179,12 @@ def main() -> None:
                 lambda: new_exr.write_canvas_exr(tmp / "rows.exr", canvas, rgba),
             )
         if args.exr_threads is not None:
-            default_threads = oiio.get_int_attribute("exr_threads")
-
-            def threaded() -> None:
-                oiio.attribute("exr_threads", args.exr_threads)
-                try:
-                    new_exr.write_canvas_exr(tmp / "threads.exr", canvas, rgba)
-                finally:
-                    oiio.attribute("exr_threads", default_threads)
-
-            cases[f"exr new, exr_threads {args.exr_threads}"] = threaded
+            cases[f"exr new, {args.exr_threads} OpenEXR threads"] = lambda: patched(
+                new_exr,
+                "EXR_THREADS",
+                args.exr_threads,
+                lambda: new_exr.write_canvas_exr(tmp / "threads.exr", canvas, rgba),
+            )
         if not args.no_outputs:
             cases["outputs old"] = lambda: old_outputs.write_canvas_outputs(
                 canvas, tmp / "old_out.exr", tmp / "old_out.png"
@@ -241,7 +217,7 @@ def main() -> None:
             "outputs new": "new_out.exr",
         }
         for name, ts in times.items():
-            extra = {"zip": "zip.exr", "rows": "rows.exr", "threads": "threads.exr"}
+            extra = {"rows": "rows.exr", "threads": "threads.exr"}
             file = tmp / files.get(name, next((f for k, f in extra.items() if k in name), ""))
             size = file.stat().st_size / 1e6 if file.exists() else float("nan")
             print(f"{name:<32} {statistics.median(ts):9.2f} {min(ts):7.2f} {size:8.2f}")

@@ -1,4 +1,5 @@
-"""Canvas files: OpenEXR with the picture and the paint, written atomically with OpenImageIO.
+"""Canvas files: OpenEXR with the picture and the paint, written atomically with OpenEXR's
+library and read with OpenImageIO.
 
 Channels of a canvas EXR (image rows top to bottom, i.e. canvas row H-1 first):
 
@@ -25,12 +26,12 @@ checked to lie within the named surface's relief (a layer that does not is refus
 from __future__ import annotations
 
 import json
-from collections.abc import Generator, Iterable, Mapping
-from concurrent.futures import ThreadPoolExecutor
-from contextlib import closing
+import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
+import OpenEXR
 import OpenImageIO as oiio
 
 from common.errors import InputError
@@ -69,9 +70,16 @@ def unlit_rgba(canvas: Canvas, library: PigmentLibrary | None = None) -> np.ndar
 #: The largest finite 16-bit float: the picture's values are clipped to it.
 HALF_MAX = 65504.0
 
-#: File rows in a block of the pixels handed to OpenImageIO at a time: a multiple of the 16
-#: scanlines of a zip block (each block compresses apart), about 8 MB of float32 at A4 (2100
-#: texels wide) with 10 channels.
+#: Channels stored as 32-bit floats in a half file too: heights (thin paint is ~1e-5 m).
+WIDE = (HEIGHT, TOOTH)
+
+#: Threads OpenEXR compresses a file's blocks on (its library's global pool; 0, its default,
+#: compresses on the calling thread): 1.46 -> 1.17 s for a demo-sized canvas on 2 cores
+#: (docs/performance.md, the canvas EXR through OpenEXR).
+EXR_THREADS = min(8, os.cpu_count() or 1)
+
+#: File rows built at a time (through one float32 block of every channel, about 8 MB at A4:
+#: 2100 texels wide, 10 channels) before each channel's rows are stored in its own type.
 BLOCK_ROWS = 96
 
 
@@ -84,8 +92,10 @@ def _fill_block(canvas: Canvas, rgba: np.ndarray, y0: int, y1: int, out: np.ndar
     block = out[: y1 - y0]
     picture = block[..., :4]
     picture[...] = rgba[rows][::-1]
-    np.nan_to_num(picture, copy=False, nan=0.0, posinf=HALF_MAX, neginf=-HALF_MAX)
+    # infinities to +-HALF_MAX by the clip, then NaN to 0 (nan_to_num on this strided view
+    # took a third of a second at A4)
     np.clip(picture, -HALF_MAX, HALF_MAX, out=picture)  # finite in a half file too
+    np.copyto(picture, 0.0, where=np.isnan(picture))
     block[..., 4] = canvas.paint_m[:, rows].sum(axis=0, dtype=np.float32)[::-1]
     block[..., 5] = canvas.wetness[rows][::-1]
     box = (0, rows.start, canvas.width, rows.stop)
@@ -96,28 +106,22 @@ def _fill_block(canvas: Canvas, rgba: np.ndarray, y0: int, y1: int, out: np.ndar
     return block
 
 
-def _blocks(
-    canvas: Canvas, rgba: np.ndarray, nchannels: int
-) -> Generator[tuple[int, np.ndarray], None, None]:
-    """(first file row, block) over the image, top first; the next block is filled on a thread
-    of its own while the caller writes the last one (OpenImageIO releases the interpreter lock
-    while it converts and compresses, numpy while it copies): two buffers of
-    :data:`BLOCK_ROWS` rows in all, not the whole image."""
-    step = min(BLOCK_ROWS, canvas.height)
-    buffers = [np.empty((step, canvas.width, nchannels), np.float32) for _ in range(2)]
-    starts = range(0, canvas.height, step)
-
-    def fill(k: int) -> np.ndarray:
-        y0 = starts[k]
-        return _fill_block(canvas, rgba, y0, min(y0 + step, canvas.height), buffers[k % 2])
-
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="exr-block") as pool:
-        pending = pool.submit(fill, 0)
-        for k, y0 in enumerate(starts):
-            block = pending.result()
-            if k + 1 < len(starts):
-                pending = pool.submit(fill, k + 1)
-            yield y0, block
+def file_channels(
+    canvas: Canvas, rgba: np.ndarray, names: tuple[str, ...], half: bool
+) -> dict[str, np.ndarray]:
+    """Each channel of the file by name, (H, W) in the type it is stored in (float16 where
+    ``half``, but the heights; else float32), image rows top first: built :data:`BLOCK_ROWS`
+    rows at a time and converted by numpy (IEEE round to nearest even, as OpenEXR converts)."""
+    h, w = canvas.height, canvas.width
+    out = {n: np.empty((h, w), np.float16 if half and n not in WIDE else np.float32) for n in names}
+    step = min(BLOCK_ROWS, h)
+    block = np.empty((step, w, len(names)), np.float32)
+    for y0 in range(0, h, step):
+        y1 = min(y0 + step, h)
+        filled = _fill_block(canvas, rgba, y0, y1, block)
+        for i, name in enumerate(names):
+            out[name][y0:y1] = filled[..., i]
+    return out
 
 
 def write_canvas_exr(
@@ -129,8 +133,9 @@ def write_canvas_exr(
     library: PigmentLibrary | None = None,
     metadata: Mapping[str, str] | None = None,
 ) -> None:
-    """Write a canvas EXR atomically (see the module docstring for the layout); its pixels are
-    built :data:`BLOCK_ROWS` rows at a time, each block beside the writing of the one before.
+    """Write a canvas EXR atomically (see the module docstring for the layout) with OpenEXR's
+    own library: every channel is handed over in its stored type (:func:`file_channels`), and
+    OpenEXR compresses them.
 
     Args:
         path: output file (``.exr``).
@@ -151,12 +156,6 @@ def write_canvas_exr(
     names = ("R", "G", "B", "A", HEIGHT, WETNESS, *map(pigment_channel, canvas.pigment_names))
     if canvas.has_tooth:
         names = (*names, TOOTH)
-    spec = oiio.ImageSpec(canvas.width, canvas.height, len(names), "float")
-    spec.channelnames = names
-    small = oiio.HALF if half else oiio.FLOAT
-    spec.channelformats = tuple(oiio.FLOAT if n in (HEIGHT, TOOTH) else small for n in names)
-    spec.attribute("compression", "zip")
-    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"), REC709_CHROMATICITIES)
     info = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -166,29 +165,30 @@ def write_canvas_exr(
     }
     if canvas.has_tooth:
         info["surface"] = canvas.surface
-    spec.attribute(META_KEY, json.dumps(info, allow_nan=False))
+    header: dict[str, object] = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        "chromaticities": REC709_CHROMATICITIES,
+        META_KEY: json.dumps(info, allow_nan=False),
+    }
     for key, value in (metadata or {}).items():
-        spec.attribute(f"paintapp:{key}", str(value))
-    with closing(_blocks(canvas, rgba, len(names))) as blocks, atomic_path(path) as tmp:
-        _write_image(tmp, spec, blocks)
+        header[f"paintapp:{key}"] = str(value)
+    channels = file_channels(canvas, rgba, names, half)
+    with atomic_path(path) as tmp:
+        _write_image(tmp, header, channels)
 
 
-def _write_image(
-    path: Path, spec: oiio.ImageSpec, blocks: Iterable[tuple[int, np.ndarray]]
-) -> None:
-    """Write one image with OpenImageIO from blocks of scanlines, (first row, (rows, W, C)
-    float32), top first; raises OSError with OIIO's message on failure."""
-    out = oiio.ImageOutput.create(str(path))
-    if out is None:
-        raise OSError(f"cannot create an image writer for {path}: {oiio.geterror()}")
+def _write_image(path: Path, header: dict[str, object], channels: dict[str, np.ndarray]) -> None:
+    """Write one scanline image with OpenEXR: ``header`` its attributes, ``channels`` (H, W)
+    arrays by name, image rows top first, compressed on :data:`EXR_THREADS` threads; raises
+    OSError with OpenEXR's message on failure."""
+    if OpenEXR.global_thread_count() != EXR_THREADS:
+        OpenEXR.set_global_thread_count(EXR_THREADS)
     try:
-        if not out.open(str(path), spec):
-            raise OSError(f"cannot open {path} for writing: {out.geterror()}")
-        for y0, block in blocks:
-            if not out.write_scanlines(y0, y0 + len(block), 0, block):
-                raise OSError(f"cannot write {path}: {out.geterror()}")
-    finally:
-        out.close()
+        with OpenEXR.File(header, channels) as image:
+            image.write(str(path))
+    except (RuntimeError, ValueError, TypeError) as exc:
+        raise OSError(f"cannot write {path}: {exc}") from exc
 
 
 def stored_channels(path: str | Path) -> tuple[oiio.ImageSpec, dict[str, np.ndarray]]:

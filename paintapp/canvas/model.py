@@ -212,8 +212,8 @@ class Canvas:
         x0, y0, x1, y1 = box
         paint = self.paint_m[:, y0:y1, x0:x1]
         total = paint.sum(axis=0, dtype=np.float32)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            return np.where(total > 0, paint / total, np.float32(0)).astype(np.float32)
+        out = np.zeros(paint.shape, np.float32)
+        return np.divide(paint, total, out=out, where=total > 0)
 
     # --- writing ----------------------------------------------------------------------------------
     def write_region(

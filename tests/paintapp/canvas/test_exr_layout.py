@@ -1,9 +1,10 @@
-"""The canvas EXR written a block of rows at a time: the same file, channel by channel and bit for
-bit, as the whole image converted and written at once (the way before the blocks)."""
+"""The canvas EXR as OpenEXR's library writes it (every channel converted by numpy a block of rows
+at a time): the same file, channel by channel and bit for bit, as OpenImageIO writes from the
+whole image in float32, converting each channel to its stored type itself (the way before)."""
 
 from __future__ import annotations
 
-import threading
+import json
 
 import numpy as np
 import OpenImageIO as oiio
@@ -62,29 +63,36 @@ def old_pixels(canvas: Canvas, rgba: np.ndarray) -> np.ndarray:
     return pixels
 
 
-def write_whole(monkeypatch, path, canvas, rgba, half) -> np.ndarray:
-    """Write ``canvas`` with the same spec as :func:`write_canvas_exr` but the whole-image way
-    (the old pixels, one ``write_image`` converting all of them); returns the blocks the module
-    built, joined."""
-    blocks: list[np.ndarray] = []
-
-    def whole(tmp, spec, parts):
-        for y0, block in parts:
-            assert y0 == sum(len(b) for b in blocks)
-            blocks.append(block.copy())
-        out = oiio.ImageOutput.create(str(tmp))
-        assert out.open(str(tmp), spec)
-        assert out.write_image(old_pixels(canvas, rgba)), out.geterror()
-        out.close()
-
-    with monkeypatch.context() as patch:
-        patch.setattr(canvas_io, "_write_image", whole)
-        write_canvas_exr(path, canvas, rgba, half=half, metadata={"stroke_file": "demo.jsonl"})
-    return np.concatenate(blocks)
+def write_whole(path, canvas, rgba, half) -> None:
+    """Write ``canvas`` the whole-image way: OpenImageIO's ``write_image`` of the old pixels,
+    converting them to each channel's stored type, with the spec the module wrote before."""
+    names = ["R", "G", "B", "A", "paint.height", "paint.wetness"]
+    names += [f"pigment.{p}" for p in canvas.pigment_names]
+    if canvas.has_tooth:
+        names.append("surface.tooth")
+    spec = oiio.ImageSpec(canvas.width, canvas.height, len(names), "float")
+    spec.channelnames = names
+    small = oiio.HALF if half else oiio.FLOAT
+    spec.channelformats = tuple(
+        oiio.FLOAT if "height" in n or "tooth" in n else small for n in names
+    )
+    spec.attribute("compression", "zip")
+    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"), canvas_io.REC709_CHROMATICITIES)
+    info = {"format": "paintapp-canvas", "version": 1, "pixels": list(canvas.pixels)}
+    info |= {"size_m": list(canvas.size_m), "pigments": list(canvas.pigment_names)}
+    if canvas.has_tooth:
+        info["surface"] = canvas.surface
+    spec.attribute("paintapp:canvas", json.dumps(info))
+    spec.attribute("paintapp:stroke_file", "demo.jsonl")
+    out = oiio.ImageOutput.create(str(path))
+    assert out is not None
+    assert out.open(str(path), spec)
+    assert out.write_image(old_pixels(canvas, rgba)), out.geterror()
+    out.close()
 
 
 def attributes(spec: oiio.ImageSpec) -> dict[str, object]:
-    """A spec's attributes, by name, but the time of writing."""
+    """A spec's attributes, by name, but the time of writing (OpenImageIO stamps one)."""
     return {a.name: a.value for a in spec.extra_attribs if a.name != "DateTime"}
 
 
@@ -97,15 +105,14 @@ def attributes(spec: oiio.ImageSpec) -> dict[str, object]:
         ((5, 3), "smooth", True, 96),  # fewer rows than a block
     ],
 )
-def test_blocks_write_the_same_file_as_the_whole_image(
+def test_openexr_writes_the_same_file_as_openimageio_from_the_whole_image(
     tmp_path, monkeypatch, pixels, surface, half, block_rows
 ):
     monkeypatch.setattr(canvas_io, "BLOCK_ROWS", block_rows)
     canvas = painted(pixels, surface)
     rgba = picture(canvas)
     old, new = tmp_path / "old.exr", tmp_path / "new.exr"
-    built = write_whole(monkeypatch, old, canvas, rgba, half)
-    np.testing.assert_array_equal(built.view(np.uint32), old_pixels(canvas, rgba).view(np.uint32))
+    write_whole(old, canvas, rgba, half)
     write_canvas_exr(new, canvas, rgba, half=half, metadata={"stroke_file": "demo.jsonl"})
 
     old_spec, old_channels = stored_channels(old)
@@ -131,16 +138,23 @@ def test_blocks_write_the_same_file_as_the_whole_image(
     np.testing.assert_array_equal(back.wetness, before.wetness)
 
 
-def test_a_failed_write_stops_the_block_thread(tmp_path, monkeypatch):
-    monkeypatch.setattr(canvas_io, "BLOCK_ROWS", 16)
+def test_a_write_openexr_refuses_is_an_oserror_and_leaves_no_file(tmp_path, monkeypatch):
     canvas = painted((30, 90))
 
-    def fail_after_one(tmp, spec, parts):
-        next(iter(parts))
-        raise OSError("disk full")
+    class Refusing:
+        def __init__(self, header, channels):
+            assert all(c.shape == (90, 30) for c in channels.values())
 
-    monkeypatch.setattr(canvas_io, "_write_image", fail_after_one)
-    with pytest.raises(OSError, match="disk full"):
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def write(self, path):
+            raise RuntimeError("Cannot write image file: disk full")
+
+    monkeypatch.setattr(canvas_io.OpenEXR, "File", Refusing)
+    with pytest.raises(OSError, match=r"cannot write .*disk full"):
         write_canvas_exr(tmp_path / "c.exr", canvas, picture(canvas))
-    assert not any(t.name.startswith("exr-block") for t in threading.enumerate())
     assert list(tmp_path.iterdir()) == []
