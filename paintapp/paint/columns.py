@@ -226,7 +226,10 @@ class ColumnWindow:
         unused = np.empty((0, 0))
         block = (canvas.paint_m, canvas.wetness, box[0], box[1])
         texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
-        kernels.texels_to_columns(texels, (unused, unused), False, sums, np.empty(sums.shape[1:]))
+        every = np.ones(out.shape[0], np.bool_)
+        kernels.texels_to_columns(
+            texels, (unused, unused), False, every, sums, np.empty(sums.shape[1:])
+        )
         out[:, r[0] : r[1], r[2] : r[3]] = sums / self.k**2
         return out
 
@@ -267,6 +270,9 @@ class ColumnWindow:
         a0, a1, b0, b1 = ci.min(), ci.max() + 1, cj.min(), cj.max() + 1
         sub = (r[0] + a0, r[0] + a1, r[2] + b0, r[2] + b1)
         change, owned = change[:, a0:a1, b0:b1], held[:, a0:a1, b0:b1]
+        # the pigments that change: the texel passes skip the others (their texels keep
+        # their paint, as zero rates would leave it)
+        active = np.any(change != 0.0, axis=(1, 2))
         if self.k < SWEEP_MIN_TEXELS:
             sweep_texels = None
         box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
@@ -282,19 +288,19 @@ class ColumnWindow:
             texture_w = shape
             first = np.empty_like(owned)
             support = np.empty(owned.shape[1:])
-            kernels.texels_to_columns(texels, texture_w, True, first, support)
+            kernels.texels_to_columns(texels, texture_w, True, active, first, support)
             rates = column_rates(owned, change, support[None], first)
         ny, nx = box[3] - box[1], box[2] - box[0]
         new_mobile = np.empty((owned.shape[0], ny, nx))
         touched = np.empty((ny, nx), dtype=np.bool_)
         total = np.empty((ny, nx))
         kernels.spread_to_texels(
-            texels, rates, texture_w, shape is not None, new_mobile, touched, total
+            texels, rates, texture_w, shape is not None, active, new_mobile, touched, total
         )
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
             travel = (float(sweep_texels[0]), float(sweep_texels[1]))
-            kernels.sweep_change(*block, new_mobile, touched, total, *travel, spacing)
+            kernels.sweep_change(*block, new_mobile, touched, total, *travel, spacing, active)
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)

@@ -123,11 +123,12 @@ def _mobile_share(wet):
 
 
 @kernel
-def texels_to_columns(box, texture, textured, out_mobile, out_gain):
+def texels_to_columns(box, texture, textured, active, out_mobile, out_gain):
     """Weighted sums over the texels of ``box`` (a :class:`TexelBox`) into columns:
     ``out_mobile`` (P, ni, nj) gets the mobile paint (times the loss weights when ``textured``)
-    and ``out_gain`` (ni, nj) the gain weights (when ``textured``); ``texture`` is the
-    (gain, loss) weights, each (ny, nx). Both are overwritten.
+    of the pigments ``active`` (P,) marks (0 for the rest) and ``out_gain`` (ni, nj) the gain
+    weights (when ``textured``); ``texture`` is the (gain, loss) weights, each (ny, nx). Both are
+    overwritten.
 
     Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
     column (``k`` of them) sums its three taps in registers and adds them to the row's columns
@@ -155,7 +156,8 @@ def texels_to_columns(box, texture, textured, out_mobile, out_gain):
                 share[x] *= loss_row[x]
             _runs_into(gain_w[y], 0, share, False, fx, tx, row_g)
         for p in range(n_p):
-            _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
+            if active[p]:
+                _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
         j0 = fy[y]
         for c in range(TAPS):
             w = ty[y, c]
@@ -191,17 +193,22 @@ def _runs_into(values, x0, share, shared, fx, tx, out):
 
 
 @kernel
-def _row_values(columns, fy_y, ty_y, out):
+def _row_values(columns, fy_y, ty_y, active, out):
     """``out[p, i]`` = the column values ``columns`` (P, ni, nj) summed over j with one texel
-    row's weights (``out`` may be longer than ``ni``: the rest is left alone)."""
+    row's weights, for the pigments ``active`` marks (``out`` may be longer than ``ni``: the
+    rest, and the other pigments' rows, are left alone)."""
     n_p, ni, _ = columns.shape
-    out[:, :ni] = 0.0
+    for p in range(n_p):
+        if active[p]:
+            out[p, :ni] = 0.0
     for c in range(TAPS):
         w = ty_y[c]
         if w == 0.0:
             continue
         j = fy_y + c
         for p in range(n_p):
+            if not active[p]:
+                continue
             for i in range(ni):
                 out[p, i] += w * columns[p, i, j]
 
@@ -212,14 +219,16 @@ def _at_texel(row, p, i0, tx_x):
 
 
 @kernel
-def spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
+def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched, total):
     """New mobile paint (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
     :class:`TexelBox`) that changed into ``touched`` (ny, nx) and their new paint (dry + new
     mobile, all pigments) into ``total`` (ny, nx), for ``rates`` = (gain, first, rest): column
     gains and loss fractions (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a
     texel gains ``g * sum w gain`` and loses ``m (b * sum w first + (1 - b) * sum w rest)``
     (``g``, ``b``: the gain and loss weights ``texture`` when ``textured``, else 1 and 1).
-    Reads the canvas only."""
+    A pigment ``active`` (P,) does not mark has no rates (all zero): its texels keep their
+    mobile paint, the same value its rates would give, without reading them. Reads the canvas
+    only."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
     gain, first, rest = rates
     gain_w, loss_w = texture
@@ -229,10 +238,10 @@ def spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
     row_first = np.zeros((n_p, ni + TAPS - 1))
     row_rest = np.zeros((n_p, ni + TAPS - 1))
     for y in range(ny):
-        _row_values(gain, fy[y], ty[y], row_gain)
-        _row_values(first, fy[y], ty[y], row_first)
+        _row_values(gain, fy[y], ty[y], active, row_gain)
+        _row_values(first, fy[y], ty[y], active, row_first)
         if textured:
-            _row_values(rest, fy[y], ty[y], row_rest)
+            _row_values(rest, fy[y], ty[y], active, row_rest)
         for x in range(nx):
             share = _mobile_share(wetness[y0 + y, x0 + x])
             g = gain_w[y, x] if textured else 1.0
@@ -243,6 +252,10 @@ def spread_to_texels(box, rates, texture, textured, new_mobile, touched, total):
             for p in range(n_p):
                 held = paint[p, y0 + y, x0 + x]
                 mobile = held * share
+                if not active[p]:
+                    new_mobile[p, y, x] = mobile
+                    t += held * (1.0 - share) + mobile
+                    continue
                 laid = g * _at_texel(row_gain, p, i0, tx[x])
                 lost = mobile * b * _at_texel(row_first, p, i0, tx[x])
                 if textured:
@@ -653,7 +666,7 @@ def _water_fill(frac_s, mobile, scale, lost):
 
 
 @kernel
-def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing):
+def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing, active):
     """Lay a step's change of mobile paint along the path the tip swept, in place.
 
     The step changed each texel's mobile paint ``m`` to ``new_mobile`` with the tip at its end
@@ -669,7 +682,8 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     linear in the change and left a step's teeth; uncapped amounts emptied texels, leaving holes.)
     A pigment whose swept totals miss by more than round-off (the box cut short at the canvas's
     edge), or whose caps cannot take its loss, keeps its unswept change. ``touched`` and ``total``
-    (as :func:`spread_to_texels` fills them) are updated. Returns whether anything was swept."""
+    (as :func:`spread_to_texels` fills them) are updated; a pigment ``active`` (P,) does not mark
+    is left as it is (it has no change to lay). Returns whether anything was swept."""
     n_p, ny, nx = new_mobile.shape
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:
@@ -691,6 +705,8 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
             share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
     done = False
     for p in range(n_p):
+        if not active[p]:
+            continue
         gained, lost = 0.0, 0.0
         for y in range(ny):
             row = paint[p, y0 + y, x0 : x0 + nx]

@@ -212,3 +212,60 @@ def test_a_bad_scene_names_the_key():
     assert (travel.max_travel_cells, travel.max_travel_substeps) == (0.5, 8)
     with pytest.raises(InputError, match="unknown painting scene"):
         load_paint_scene("no_such_scene")
+
+
+class RandomTexture:
+    """Gain and loss weights drawn at random over any box (a bristle texture's shape)."""
+
+    def weights(self, box):
+        rng = np.random.default_rng(box[0] * 1000 + box[1])
+        shape = (box[3] - box[1], box[2] - box[0])
+        return rng.uniform(0.2, 1.8, shape), rng.uniform(0.05, 1.0, shape)
+
+
+@pytest.mark.parametrize("texture", [None, RandomTexture()])
+def test_write_back_skips_unchanged_pigments_with_the_same_bits(monkeypatch, texture):
+    """A pigment whose columns do not change is left out of the texel passes; the canvas ends
+    the same, bit for bit, as when every pigment goes through them (its texels keep their
+    paint; the wetness still counts it)."""
+    from paintapp.paint import columns_kernels
+
+    def canvas() -> Canvas:
+        rng = np.random.default_rng(4)
+        paint = (rng.random((3, 64, 64)) * 1e-4).astype(np.float32)
+        wet = rng.random((64, 64)).astype(np.float32)
+        names = ("ultramarine_blue", "cadmium_yellow", "cadmium_red")
+        return Canvas((64, 64), (0.016, 0.016), names, paint, wet)
+
+    def painted(every: bool) -> Canvas:
+        c = canvas()
+        window = ColumnWindow(c, (16, 16), 3, continuous=True)
+        window.place(0.0081, 0.0079)
+        columns = window.gather(c)
+        delta = np.zeros_like(columns)
+        delta[0, 5:8, 6:9] = 2e-5  # blue laid down
+        delta[2, 9:11, 4:7] = -0.6 * columns[2, 9:11, 4:7]  # red taken up; yellow unchanged
+        with monkeypatch.context() as patch:
+            if every:
+                for name, at in (("texels_to_columns", 3), ("spread_to_texels", 4)):
+                    real = getattr(columns_kernels, name)
+                    patch.setattr(columns_kernels, name, all_pigments(real, at))
+                real_sweep = columns_kernels.sweep_change
+                patch.setattr(columns_kernels, "sweep_change", all_pigments(real_sweep, 10))
+            window.write_back(c, delta, texture, gathered=columns, sweep_texels=(7.5, -3.0))
+        return c
+
+    def all_pigments(real, at):
+        def call(*args):
+            args = list(args)
+            args[at] = np.ones_like(args[at])
+            return real(*args)
+
+        return call
+
+    before, skipped, every = canvas(), painted(False), painted(True)
+    assert np.array_equal(skipped.paint_m, every.paint_m)
+    assert np.array_equal(skipped.wetness, every.wetness)
+    assert np.array_equal(skipped.paint_m[1], before.paint_m[1])  # the yellow kept its paint
+    assert not np.array_equal(skipped.wetness, before.wetness)
+    assert not np.array_equal(skipped.paint_m[0], before.paint_m[0])

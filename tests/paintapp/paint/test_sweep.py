@@ -12,6 +12,11 @@ from paintapp.paint.columns_kernels import _water_fill, sweep_change
 from paintapp.paint.paint_scene import parse_paint_scene
 
 
+def every(paint: np.ndarray) -> np.ndarray:
+    """Every pigment of ``paint`` (P, H, W) marked as changing."""
+    return np.ones(len(paint), np.bool_)
+
+
 def canvas_and_change(rng: np.random.Generator, pigments: int = 2):
     """A (P, 40, 60) wet canvas, its box at (5, 3) of (30, 50) texels, and new mobile paint
     there: a gain ahead of a patch that lost paint, as a tip leaves them."""
@@ -30,7 +35,7 @@ def test_gains_are_laid_as_their_mean_along_the_path_and_totals_kept():
     out = new.copy()
     touched = np.zeros((30, 50), bool)
     total = np.zeros((30, 50))
-    assert sweep_change(paint, wet, 5, 3, out, touched, total, 4.0, 0.0, 1.0)
+    assert sweep_change(paint, wet, 5, 3, out, touched, total, 4.0, 0.0, 1.0, every(paint))
     change, swept = new - mobile, out - mobile
     np.testing.assert_allclose(swept.sum(axis=(1, 2)), change.sum(axis=(1, 2)), rtol=1e-9)
     assert out.min() >= 0.0
@@ -59,7 +64,7 @@ def test_losses_are_laid_as_their_mean_along_the_path_within_each_texel_s_cap():
     new[:, 4:12, 20:24] *= 0.5  # half of a 4-texel patch taken
     out = new.copy()
     assert sweep_change(paint, wet, 2, 2, out, np.zeros((16, 36), bool), np.zeros((16, 36)), 4.0,
-                        0.0, 1.0)  # fmt: skip
+                        0.0, 1.0, every(paint))  # fmt: skip
     loss = np.maximum(mobile - new, 0.0)
     padded = np.pad(loss, ((0, 0), (0, 0), (0, 6)))
     mean = sum(padded[:, :, k : k + 36] + padded[:, :, k + 1 : k + 37] for k in range(4)) / 8
@@ -87,7 +92,7 @@ def test_losses_never_take_more_than_a_texel_holds():
     new[:, 10:20, 36:40] += 2e-5
     out = new.copy()
     sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 7.5, -2.5,
-                 1.0)  # fmt: skip
+                 1.0, every(paint))  # fmt: skip
     assert out.min() >= 0.0 and not np.array_equal(out, new)
     np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
 
@@ -98,7 +103,7 @@ def test_no_travel_or_a_box_cut_short_leaves_the_change_unswept():
     for travel, box_x in (((0.2, 0.1), 5), ((-30.0, 0.0), 5)):  # too short; reaching past the box
         out = new.copy()
         sweep_change(paint, wet, box_x, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)),
-                     *travel, 1.0)  # fmt: skip
+                     *travel, 1.0, every(paint))  # fmt: skip
         np.testing.assert_array_equal(out, new)
 
 
@@ -148,7 +153,7 @@ def test_a_sweep_that_empties_texels_still_keeps_the_loss_and_takes_no_more_than
     new[:, 8:22, 34:38] += 4e-5
     out = new.copy()
     sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 11.0, 3.0,
-                 1.0)  # fmt: skip
+                 1.0, every(paint))  # fmt: skip
     assert out.min() >= 0.0 and not np.array_equal(out, new)
     np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
 
@@ -166,7 +171,7 @@ def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
     new[:, 5:25, 40:44] += 1e-4
     out = new.copy()
     assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 5.0,
-                        0.0, 1.0)  # fmt: skip
+                        0.0, 1.0, every(paint))  # fmt: skip
     np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-9)
     assert out.min() >= 0.0
     # the loss laid back along the path: the texels behind the patch give paint now...
