@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import pickle
 from pathlib import Path
 
@@ -32,6 +33,29 @@ def test_the_bundled_list_names_the_run_s_kernels_with_numba_types() -> None:
     assert sum(d is not None for d in resolved) >= 0.8 * len(entries)
     assert all(isinstance(t, types.Type) for _, _, args in entries for t in args)
     assert ("brushes.tips_kernels", "tip_sdf") in {(m, n) for m, n, _ in entries}
+
+
+def stale_entries(entries: list) -> list[str]:
+    """The entries whose argument count no longer fits their kernel's parameters."""
+    stale = []
+    for module, name, args in entries:
+        dispatcher = resolve(module, name)
+        if dispatcher is None:
+            continue
+        params = list(inspect.signature(dispatcher.py_func).parameters.values())
+        required = sum(p.default is inspect.Parameter.empty for p in params)
+        if not required <= len(args) <= len(params):
+            stale.append(f"{module}.{name}: {len(args)} arguments, takes {len(params)}")
+    return stale
+
+
+def test_every_bundled_entry_fits_its_kernel_s_parameters() -> None:
+    """A kernel given a parameter more (or fewer) since the list was recorded is skipped by the
+    second process and compiled by the run itself: record the list again
+    (``NUMBA_CACHE_DIR=$(mktemp -d) python -m paintapp.compile_order``)."""
+    assert stale_entries(load_manifest()) == []
+    shifted = [("solver.linalg.pcg", "dot", (VECTOR, VECTOR, VECTOR))]
+    assert stale_entries(shifted) == ["solver.linalg.pcg.dot: 3 arguments, takes 2"]
 
 
 def test_garbage_is_no_list_and_another_numba_s_list_is_still_read(tmp_path: Path) -> None:
