@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from solver.boundary import INFLOW, WALL
+from solver.bundles import Sides
 from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.layers import layer_count
 from solver.labels import BOUNDARY, FREE, INTERIOR
@@ -310,18 +311,36 @@ def _short_rows_2d(comp, coeffs, sides, out):
             j += step
 
 
-@kernel
-def build_cut_system(comp, dim, coeffs, sides, walls, out, layers, short=True):
+def build_cut_system(
+    comp: Component,
+    dim: int,
+    coeffs: Diffusion,
+    sides: Sides,
+    walls: CutWalls,
+    out: DiffusionArrays,
+    layers: int | None,
+    short: bool = True,
+) -> None:
     """Assemble the diffusion system of component ``comp`` into ``out`` (see
     :func:`solver.staircase.viscosity.build_variable_system`), with ``walls`` a :class:`CutWalls`;
     ``layers`` as :func:`solver.compiled.layers.layer_count` gives it.
 
     An unknown whose neighbours within the domain are all unknowns (most of them) takes a short
     path (:func:`_short_rows_3d`, :func:`_short_rows_2d`), with the same sums in the same order
-    as the general path below, which then visits the rest; with ``short`` False it visits every
-    sample (the reference the short path is tested against). The general path stays inline
-    here: as a function of its own, called per sample or per neighbour, it is several times
-    slower."""
+    as the general path (:func:`_general_rows`), which then visits the rest; with ``short``
+    False it visits every sample (the reference the short path is tested against). The short
+    path for the grid's dimension is chosen here, not in a kernel, so that a run compiles only
+    the one it takes."""
+    if short:
+        (_short_rows_3d if dim == 3 else _short_rows_2d)(comp, coeffs, sides, out)
+    _general_rows(comp, dim, coeffs, sides, walls, out, layers, short)
+
+
+@kernel
+def _general_rows(comp, dim, coeffs, sides, walls, out, layers, short):
+    """:func:`build_cut_system`'s general path: every sample, or with ``short`` every sample
+    the short path left inactive. It stays inline here: as a function of its own, called per
+    sample or per neighbour, it is several times slower."""
     q, face_type, axis = comp
     mu_face, scale, drag_face = coeffs
     kinds, side_vel = sides
@@ -329,13 +348,7 @@ def build_cut_system(comp, dim, coeffs, sides, walls, out, layers, short=True):
     diag, offx, offy, offz, active, rhs = out
     nx, ny, nz = q.shape
     shape = (nx, ny, nz)
-    three = dim == 3
     nl = 1 if layers is None else nz  # a constant on a 2D grid (see solver.compiled.layers)
-    if short:
-        if three:
-            _short_rows_3d(comp, coeffs, sides, out)
-        else:
-            _short_rows_2d(comp, coeffs, sides, out)
     for i in range(nx):
         for j in range(ny):
             for k in range(nl):
