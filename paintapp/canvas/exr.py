@@ -135,7 +135,8 @@ def write_canvas_exr(
 ) -> None:
     """Write a canvas EXR atomically (see the module docstring for the layout) with OpenEXR's
     own library: every channel is handed over in its stored type (:func:`file_channels`), and
-    OpenEXR compresses them.
+    OpenEXR compresses them. The channels are held at once: 2 bytes a texel a half channel, 4 a
+    float one (137 MB at A4 with four pigments, about what the canvas itself holds).
 
     Args:
         path: output file (``.exr``).
