@@ -1,3 +1,3 @@
-from paintapp.cli import main
+from paintapp.cli import console
 
-raise SystemExit(main())
+console()
