@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from solver.advection.scalars import substeps_for, transport
     from solver.boundary import DomainBoundary, Side
     from solver.compiled.jit import inline_kernel, kernel
-    from solver.compiled.threads import MAX_THREADS, BesideJob, run_components, usable_cores
+    from solver.compiled.threads import MAX_THREADS, BesideJob
     from solver.grid import Grid
     from solver.labels import BOUNDARY, FLUID, FREE, INTERIOR, STATIC_SOLID
     from solver.probes import Probe
@@ -79,8 +79,6 @@ _HOME: dict[str, str] = {
     "kernel": "solver.compiled.jit",
     "BesideJob": "solver.compiled.threads",
     "MAX_THREADS": "solver.compiled.threads",
-    "run_components": "solver.compiled.threads",
-    "usable_cores": "solver.compiled.threads",
     "Scene": "solver.scenes.scene",
     "load_scene": "solver.scenes.scene",
     "method_keys": "solver.scenes.scene",
@@ -141,14 +139,12 @@ __all__ = [
     "load_scene",
     "method_keys",
     "parse_scene",
-    "run_components",
     "run_scene",
     "slow_step_warning",
     "substeps_for",
     "surface_force",
     "surface_rule",
     "transport",
-    "usable_cores",
     "with_rounded_corners",
 ]
 

@@ -32,7 +32,6 @@ from paintapp.canvas.model import MAX_PAINT_M, Canvas
 from paintapp.canvas.regions import Box
 from paintapp.paint import columns_kernels as kernels
 from paintapp.paint.paint_scene import TransferKernel
-from paintapp.paint.texel_halves import on_halves, split_threads
 
 #: Samples per cell of travel that a swept change is averaged over (at most
 #: :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is smooth on
@@ -214,11 +213,9 @@ class ColumnWindow:
             axis_weights(oy + r[2] * k - box[1], k, r[3] - r[2], box[3] - box[1], kernel),
         )
 
-    def gather(self, canvas: Canvas, threads: int | None = None) -> np.ndarray:
+    def gather(self, canvas: Canvas) -> np.ndarray:
         """Mobile paint per column and pigment, (P, nx, ny) float64, metres (0 off the canvas):
-        the weighted sum of the texels' mobile paint over the column's area ``k^2``, on
-        ``threads`` threads (None: :func:`~paintapp.paint.texel_halves.split_threads`; 1 from a
-        job already on the solver's pool, which must not wait on that pool)."""
+        the weighted sum of the texels' mobile paint over the column's area ``k^2``."""
         out = np.zeros((len(canvas.pigment_names), *self.cells))
         r = self.on_canvas_range()
         if r is None or not canvas.pigment_names:
@@ -230,15 +227,8 @@ class ColumnWindow:
         block = (canvas.paint_m, canvas.wetness, box[0], box[1])
         texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
         every = np.ones(out.shape[0], np.bool_)
-        gain = np.empty(sums.shape[1:])
-        if threads is None:
-            threads = split_threads(_area(box) * out.shape[0])
-        on_halves(
-            lambda lo, hi: kernels.texels_to_columns(
-                texels, (unused, unused), False, every, sums, gain, lo, hi
-            ),
-            sums.shape[2],
-            threads,
+        kernels.texels_to_columns(
+            texels, (unused, unused), False, every, sums, np.empty(sums.shape[1:])
         )
         out[:, r[0] : r[1], r[2] : r[3]] = sums / self.k**2
         return out
@@ -286,7 +276,6 @@ class ColumnWindow:
         if self.k < SWEEP_MIN_TEXELS:
             sweep_texels = None
         box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
-        threads = split_threads(_area(box) * int(np.count_nonzero(active)))
         wx, wy = self._weights(sub, box)
         shape = texture.weights(box) if texture is not None else None
         block = (canvas.paint_m, canvas.wetness, box[0], box[1])
@@ -299,25 +288,14 @@ class ColumnWindow:
             texture_w = shape
             first = np.empty_like(owned)
             support = np.empty(owned.shape[1:])
-            on_halves(
-                lambda lo, hi: kernels.texels_to_columns(
-                    texels, texture_w, True, active, first, support, lo, hi
-                ),
-                first.shape[2],
-                threads,
-            )
+            kernels.texels_to_columns(texels, texture_w, True, active, first, support)
             rates = column_rates(owned, change, support[None], first)
         ny, nx = box[3] - box[1], box[2] - box[0]
         new_mobile = np.empty((owned.shape[0], ny, nx))
         touched = np.empty((ny, nx), dtype=np.bool_)
         total = np.empty((ny, nx))
-        textured = shape is not None
-        on_halves(
-            lambda lo, hi: kernels.spread_to_texels(
-                texels, rates, texture_w, textured, active, new_mobile, touched, total, lo, hi
-            ),
-            ny,
-            threads,
+        kernels.spread_to_texels(
+            texels, rates, texture_w, shape is not None, active, new_mobile, touched, total
         )
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
@@ -326,22 +304,10 @@ class ColumnWindow:
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)
-
-        def store(lo: int, hi: int) -> np.ndarray:
-            bounds = np.zeros(4, np.int64)
-            kernels.store_texels(*block, new_mobile, touched, MAX_PAINT_M, bounds, lo, hi)
-            return bounds
-
-        stored = [b for b in on_halves(store, ny, threads) if b[2] > b[0]]
-        if stored:
-            x0, y0 = min(int(b[0]) for b in stored), min(int(b[1]) for b in stored)
-            x1, y1 = max(int(b[2]) for b in stored), max(int(b[3]) for b in stored)
-            canvas.mark_dirty(x0, y0, x1, y1)
-
-
-def _area(box: tuple[int, int, int, int]) -> int:
-    """Texels in a box (x0, y0, x1, y1)."""
-    return max(0, box[2] - box[0]) * max(0, box[3] - box[1])
+        bounds = np.zeros(4, np.int64)
+        kernels.store_texels(*block, new_mobile, touched, MAX_PAINT_M, bounds)
+        if bounds[2] > bounds[0]:
+            canvas.mark_dirty(*(int(v) for v in bounds))
 
 
 #: Texels' worth of round-off under which a window's edge counts as on a texel boundary.

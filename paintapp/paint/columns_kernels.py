@@ -123,14 +123,12 @@ def _mobile_share(wet):
 
 
 @kernel
-def texels_to_columns(box, texture, textured, active, out_mobile, out_gain, j_lo, j_hi):
-    """Weighted sums over the texels of ``box`` (a :class:`TexelBox`) into the columns
-    ``j_lo <= j < j_hi`` (of ``nj``): ``out_mobile`` (P, ni, nj) gets the mobile paint (times
-    the loss weights when ``textured``) of the pigments ``active`` (P,) marks (0 for the rest)
-    and ``out_gain`` (ni, nj) the gain weights (when ``textured``); ``texture`` is the (gain,
-    loss) weights, each (ny, nx). Those columns are overwritten, the others left alone: two
-    calls on two threads that split ``0..nj`` between them give the whole sums, each column's
-    added in the same order (texel row by texel row) as one call over all of them.
+def texels_to_columns(box, texture, textured, active, out_mobile, out_gain):
+    """Weighted sums over the texels of ``box`` (a :class:`TexelBox`) into columns:
+    ``out_mobile`` (P, ni, nj) gets the mobile paint (times the loss weights when ``textured``)
+    of the pigments ``active`` (P,) marks (0 for the rest) and ``out_gain`` (ni, nj) the gain
+    weights (when ``textured``); ``texture`` is the (gain, loss) weights, each (ny, nx). Both are
+    overwritten.
 
     Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
     column (``k`` of them) sums its three taps in registers and adds them to the row's columns
@@ -139,17 +137,14 @@ def texels_to_columns(box, texture, textured, active, out_mobile, out_gain, j_lo
     gain_w, loss_w = texture
     n_p, ni, _ = out_mobile.shape
     nx, ny = fx.shape[0], fy.shape[0]
-    out_mobile[:, :, j_lo:j_hi] = 0.0
-    out_gain[:, j_lo:j_hi] = 0.0
+    out_mobile[:] = 0.0
+    out_gain[:] = 0.0
     if nx == 0:
         return
     row = np.zeros((n_p, ni + TAPS - 1))  # padded: a texel's zero taps may pass the last column
     row_g = np.zeros(ni + TAPS - 1)
     share = np.empty(nx)
     for y in range(ny):
-        j0 = fy[y]
-        if j0 >= j_hi or j0 + TAPS <= j_lo:
-            continue  # this texel row's weights reach none of these columns
         row[:] = 0.0
         row_g[:] = 0.0
         wet_row = wetness[y0 + y]
@@ -163,9 +158,10 @@ def texels_to_columns(box, texture, textured, active, out_mobile, out_gain, j_lo
         for p in range(n_p):
             if active[p]:
                 _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
+        j0 = fy[y]
         for c in range(TAPS):
             w = ty[y, c]
-            if w == 0.0 or j0 + c < j_lo or j0 + c >= j_hi:
+            if w == 0.0:
                 continue
             for i in range(ni):
                 for p in range(n_p):
@@ -223,10 +219,8 @@ def _at_texel(row, p, i0, tx_x):
 
 
 @kernel
-def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched, total, y_lo, y_hi):
-    """For the texel rows ``y_lo <= y < y_hi`` of ``box`` (a :class:`TexelBox`; each texel's
-    values its own, so calls on disjoint rows may run on threads at once): new mobile paint
-    (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
+def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched, total):
+    """New mobile paint (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
     :class:`TexelBox`) that changed into ``touched`` (ny, nx) and their new paint (dry + new
     mobile, all pigments) into ``total`` (ny, nx), for ``rates`` = (gain, first, rest): column
     gains and loss fractions (P, ni, nj; see :func:`paintapp.paint.columns.column_rates`): a
@@ -239,11 +233,11 @@ def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched,
     gain, first, rest = rates
     gain_w, loss_w = texture
     n_p, ni, _ = gain.shape
-    nx = fx.shape[0]
+    nx, ny = fx.shape[0], fy.shape[0]
     row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column
     row_first = np.zeros((n_p, ni + TAPS - 1))
     row_rest = np.zeros((n_p, ni + TAPS - 1))
-    for y in range(y_lo, y_hi):
+    for y in range(ny):
         _row_values(gain, fy[y], ty[y], active, row_gain)
         _row_values(first, fy[y], ty[y], active, row_first)
         if textured:
@@ -471,17 +465,15 @@ def gather_fringe_films(new_mobile, touched, total, floor):
 
 
 @kernel
-def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds, y_lo, y_hi):
-    """Write the touched texels of the rows ``y_lo <= y < y_hi`` (each texel its own: calls on
-    disjoint rows may run on threads at once): paint = dry part + ``new_mobile``, wetness = the
-    mobile share of the total (0 where the stored float32 paint is 0), as float32; non-finite
-    values become 0, paint is clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds``
-    (4,) gets the touched texels' box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none).
-    Returns the non-finite count."""
+def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds):
+    """Write the touched texels: paint = dry part + ``new_mobile``, wetness = the mobile share
+    of the total (0 where the stored float32 paint is 0), as float32; non-finite values become
+    0, paint is clamped to [0, ``max_paint``] and wetness to [0, 1]. ``bounds`` (4,) gets the touched texels'
+    box (x0, y0, x1, y1) in canvas texels (x1 <= x0 when none). Returns the non-finite count."""
     n_p, ny, nx = new_mobile.shape
     bad = 0
     bx0, by0, bx1, by1 = nx, ny, -1, -1
-    for y in range(y_lo, y_hi):
+    for y in range(ny):
         for x in range(nx):
             if not touched[y, x]:
                 continue

@@ -109,13 +109,12 @@ class PaintGrid3D(PaintModel):
         #: (texels) they were read at; the step that follows takes them (:meth:`_shifted`).
         self._read_ahead: tuple[tuple[float, float], np.ndarray] | None = None
 
-    def band_columns(self, threads: int | None = None) -> np.ndarray:
+    def band_columns(self) -> np.ndarray:
         """Wet paint per column under the window and, with open sides, the band around it:
-        (P, nx + 2 b, ny + 2 b) metres for a band of ``b`` columns (read on ``threads``
-        threads: :meth:`~paintapp.paint.columns.ColumnWindow.gather`)."""
+        (P, nx + 2 b, ny + 2 b) metres for a band of ``b`` columns."""
         o, k, b = self.window.origin_texel, self.window.k, self.far
         self.outer.origin_texel = (o[0] - b * k, o[1] - b * k)
-        return self.outer.gather(self.canvas, threads)
+        return self.outer.gather(self.canvas)
 
     def _grid(self) -> Grid:
         ox, oy = self.window.origin_m
@@ -143,9 +142,7 @@ class PaintGrid3D(PaintModel):
         # the canvas under the moved window is read beside the fluid's move (which reads and
         # writes only the simulation's state), for the step that follows
         origin = self.window.origin_texel
-        # on the pool's one thread (with two), which the read must not hand work to
-        threads = self.sim.component_threads()
-        job = BesideJob(lambda: self.band_columns(1 if threads > 1 else None), threads)
+        job = BesideJob(self.band_columns, self.sim.component_threads())
         try:
             self.sim.shift((di, dj, 0))
         except BaseException:
