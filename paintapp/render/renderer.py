@@ -368,8 +368,9 @@ class CanvasRenderer:
         if self._target is None:
             raise RuntimeError("nothing rendered offscreen yet")
         w, h = self._target.size
-        data = self._target.read(components=4, dtype="f4")
-        return np.frombuffer(data, np.float32).reshape(h, w, 4).copy()
+        rgba = np.empty((h, w, 4), np.float32)
+        self._target.read_into(rgba, components=4, dtype="f4")  # straight into the array
+        return rgba
 
     def render_linear_rgba(self, canvas: Canvas, **kwargs) -> np.ndarray:
         """``update`` + ``render`` (offscreen, 1 texel per pixel by default) + readback."""
