@@ -13,13 +13,13 @@ both ways are read back with OpenImageIO and compared channel by channel (they m
 for bit).
 
     python benchmarks/bench_outputs.py [--rounds 5] [--rev HEAD] [--no-outputs]
-        [--exr-threads N] [--block-rows N] [--surface NAME]
+        [--exr-threads N] [--surface NAME]
     python benchmarks/bench_outputs.py --overlap-probe [--rounds 5]
 
-``--exr-threads`` and ``--block-rows`` add ``exr`` rows of the working tree's way with that many
-OpenEXR threads (``paintapp.canvas.exr.EXR_THREADS``; 0 compresses on the calling thread) or with
-that many rows a block. ``--overlap-probe`` times only the lit picture and the EXR's paint
-channels, one after the other and on two threads side by side.
+``--exr-threads`` adds an ``exr`` row of the working tree's way with that many OpenEXR threads
+(``paintapp.canvas.exr.EXR_THREADS``; 0 compresses on the calling thread). ``--overlap-probe``
+times only the lit picture and the EXR's channels, one after the other and on two threads side
+by side.
 """
 
 from __future__ import annotations
@@ -120,12 +120,12 @@ def overlap_probe(canvas: Canvas, rounds: int) -> None:
     """The lit picture and the EXR's paint channels (all blocks, picture channels zero), one
     after the other and side by side on two threads: whether the render leaves room for them."""
     rgba = np.zeros((canvas.height, canvas.width, 4), np.float32)
-    pixels = np.empty((canvas.height, canvas.width, 6 + len(canvas.pigment_names)), np.float32)
+    names = ("R", "G", "B", "A", new_exr.HEIGHT, new_exr.WETNESS)
+    names += tuple(map(new_exr.pigment_channel, canvas.pigment_names))
+    names += (new_exr.TOOTH,) if canvas.has_tooth else ()
 
     def prepare() -> None:
-        for y0 in range(0, canvas.height, new_exr.BLOCK_ROWS):
-            y1 = min(y0 + new_exr.BLOCK_ROWS, canvas.height)
-            new_exr._fill_block(canvas, rgba, y0, y1, pixels[y0:])
+        new_exr.file_channels(canvas, rgba, names, True)
 
     def side_by_side() -> None:
         thread = threading.Thread(target=prepare)
@@ -149,7 +149,6 @@ def main() -> None:
     parser.add_argument("--rev", default="HEAD", help="the git revision of the old way")
     parser.add_argument("--no-outputs", action="store_true", help="only the EXR rows")
     parser.add_argument("--exr-threads", type=int, default=None, help="an extra row")
-    parser.add_argument("--block-rows", type=int, default=None, help="an extra row")
     parser.add_argument("--surface", default="smooth")
     parser.add_argument(
         "--overlap-probe", action="store_true", help="only the picture against the paint channels"
@@ -171,13 +170,6 @@ def main() -> None:
             "exr old": lambda: old_exr.write_canvas_exr(tmp / "old.exr", canvas, rgba),
             "exr new": lambda: new_exr.write_canvas_exr(tmp / "new.exr", canvas, rgba),
         }
-        if args.block_rows:
-            cases[f"exr new, {args.block_rows} rows a block"] = lambda: patched(
-                new_exr,
-                "BLOCK_ROWS",
-                args.block_rows,
-                lambda: new_exr.write_canvas_exr(tmp / "rows.exr", canvas, rgba),
-            )
         if args.exr_threads is not None:
             cases[f"exr new, {args.exr_threads} OpenEXR threads"] = lambda: patched(
                 new_exr,

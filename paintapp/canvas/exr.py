@@ -37,6 +37,7 @@ import OpenImageIO as oiio
 from common.errors import InputError
 from common.limits import check_nesting
 from paintapp.atomic import atomic_path
+from paintapp.canvas.exr_rows import FLOAT, HALF, file_rows
 from paintapp.canvas.model import MAX_PAINT_M, MAX_PIXELS, Canvas
 from paintapp.canvas.surfaces import SMOOTH, relief_m, surface_spec
 from paintapp.pigments.bands import canvas_band_table, canvas_linear_rgb
@@ -67,9 +68,6 @@ def unlit_rgba(canvas: Canvas, library: PigmentLibrary | None = None) -> np.ndar
     return rgba
 
 
-#: The largest finite 16-bit float: the picture's values are clipped to it.
-HALF_MAX = 65504.0
-
 #: Channels stored as 32-bit floats in a half file too: heights (thin paint is ~1e-5 m).
 WIDE = (HEIGHT, TOOTH)
 
@@ -78,50 +76,36 @@ WIDE = (HEIGHT, TOOTH)
 #: (docs/performance.md, the canvas EXR through OpenEXR).
 EXR_THREADS = min(8, os.cpu_count() or 1)
 
-#: File rows built at a time (through one float32 block of every channel, about 8 MB at A4:
-#: 2100 texels wide, 10 channels) before each channel's rows are stored in its own type.
-BLOCK_ROWS = 96
-
-
-def _fill_block(canvas: Canvas, rgba: np.ndarray, y0: int, y1: int, out: np.ndarray) -> np.ndarray:
-    """File rows ``y0:y1`` (top first) of the pixels, (y1 - y0, W, C) float32, in ``out``:
-    RGBA (non-finite values replaced, all within +-:data:`HALF_MAX`), height, wetness,
-    concentrations, tooth; each channel computed for these rows only and copied once, flipped,
-    into its place."""
-    rows = slice(canvas.height - y1, canvas.height - y0)  # the same texels, bottom first
-    block = out[: y1 - y0]
-    picture = block[..., :4]
-    picture[...] = rgba[rows][::-1]
-    # infinities to +-HALF_MAX by the clip, then NaN to 0 (nan_to_num on this strided view
-    # took a third of a second at A4)
-    np.clip(picture, -HALF_MAX, HALF_MAX, out=picture)  # finite in a half file too
-    np.copyto(picture, 0.0, where=np.isnan(picture))
-    block[..., 4] = canvas.paint_m[:, rows].sum(axis=0, dtype=np.float32)[::-1]
-    block[..., 5] = canvas.wetness[rows][::-1]
-    box = (0, rows.start, canvas.width, rows.stop)
-    for i, fraction in enumerate(canvas.concentration_region(box)):
-        block[..., 6 + i] = fraction[::-1]
-    if canvas.has_tooth:
-        block[..., -1] = canvas.tooth_m[rows][::-1]
-    return block
-
 
 def file_channels(
     canvas: Canvas, rgba: np.ndarray, names: tuple[str, ...], half: bool
 ) -> dict[str, np.ndarray]:
     """Each channel of the file by name, (H, W) in the type it is stored in (float16 where
-    ``half``, but the heights; else float32), image rows top first: built :data:`BLOCK_ROWS`
-    rows at a time and converted by numpy (IEEE round to nearest even, as OpenEXR converts)."""
+    ``half``, but the heights; else float32), image rows top first: ``names`` are the layout's
+    (R, G, B, A, height, wetness, the pigments[, tooth]), built in one pass over the texels by
+    :func:`~paintapp.canvas.exr_rows.file_rows` (numpy's values and its IEEE round to nearest
+    even, as OpenEXR converts)."""
+    if len(names) != 6 + len(canvas.pigment_names) + int(canvas.has_tooth):
+        raise ValueError(f"expected the canvas's channels, got {names}")
     h, w = canvas.height, canvas.width
-    out = {n: np.empty((h, w), np.float16 if half and n not in WIDE else np.float32) for n in names}
-    step = min(BLOCK_ROWS, h)
-    block = np.empty((step, w, len(names)), np.float32)
-    for y0 in range(0, h, step):
-        y1 = min(y0 + step, h)
-        filled = _fill_block(canvas, rgba, y0, y1, block)
-        for i, name in enumerate(names):
-            out[name][y0:y1] = filled[..., i]
-    return out
+    kinds = np.array([HALF if half and n not in WIDE else FLOAT for n in names], np.int64)
+    slots = np.zeros(len(names), np.int64)
+    for kind in (HALF, FLOAT):
+        slots[kinds == kind] = np.arange(np.count_nonzero(kinds == kind))
+    halves = np.empty((np.count_nonzero(kinds == HALF), h, w), np.float16)
+    floats = np.empty((np.count_nonzero(kinds == FLOAT), h, w), np.float32)
+    tooth = canvas.tooth_m if canvas.has_tooth else np.zeros((0, 0), np.float32)
+    file_rows(
+        np.ascontiguousarray(rgba, np.float32),
+        np.ascontiguousarray(canvas.paint_m, np.float32),
+        np.ascontiguousarray(canvas.wetness, np.float32),
+        np.ascontiguousarray(tooth, np.float32),
+        (kinds, slots),
+        halves.view(np.uint16),
+        floats,
+    )
+    stores = (halves, floats)
+    return {name: stores[kinds[c]][slots[c]] for c, name in enumerate(names)}
 
 
 def write_canvas_exr(

@@ -10,6 +10,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 from paintapp.atomic import atomic_path
+from paintapp.canvas.srgb8_rows import srgb8_rows
 from paintapp.pigments.spectra import srgb_encode
 
 #: The exposures a preview accepts, stops (beyond them every pixel is black or white).
@@ -25,8 +26,13 @@ def encode_preview(rgba: np.ndarray, exposure_stops: float = 0.0) -> np.ndarray:
     lo, hi = EXPOSURE_RANGE_STOPS
     if not (math.isfinite(exposure_stops) and lo <= exposure_stops <= hi):
         raise ValueError(f"expected an exposure in [{lo:g}, {hi:g}] stops, got {exposure_stops}")
-    linear = np.asarray(rgba, np.float32)[::-1, :, :3] * np.float32(2.0**exposure_stops)
-    return srgb8(linear)
+    picture = np.ascontiguousarray(rgba, np.float32)
+    if picture.ndim != 3 or picture.shape[2] not in (3, 4):
+        raise ValueError(f"expected a picture (H, W, 3|4), got shape {picture.shape}")
+    out = np.empty((*picture.shape[:2], 3), np.uint8)
+    scale = np.float32(2.0**exposure_stops)
+    srgb8_rows(picture, scale, _srgb8_tables(), BUCKET_SHIFT, out)  # as srgb8, in one pass
+    return out
 
 
 #: A float32's bits shifted right by this many select its bucket in :func:`_srgb8_tables`.

@@ -18,6 +18,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from paintapp.canvas.half_floats import half_bits
 from paintapp.canvas.model import Canvas
 from paintapp.canvas.regions import Box, box_of_nonzero
 from solver import inline_kernel, kernel
@@ -127,44 +128,6 @@ class CanvasTextures:
     def release(self) -> None:
         self.concentration.release()
         self.surface.release()
-
-
-@kernel
-def half_bits(bits: np.ndarray, out: np.ndarray) -> None:
-    """The IEEE half floats nearest float32 values (ties to even), given and returned as their
-    bits (``bits`` uint32, ``out`` uint16, both 1D): what numpy's ``astype(np.float16)`` gives,
-    subnormals, infinities and NaN included, at a fraction of its cost."""
-    for i in range(bits.size):
-        x = bits[i]
-        sign = (x >> np.uint32(16)) & np.uint32(0x8000)
-        exponent = np.int64((x >> np.uint32(23)) & np.uint32(0xFF))
-        mantissa = x & np.uint32(0x7FFFFF)
-        if exponent == 0xFF:  # infinity or NaN (kept a NaN)
-            nan = np.uint32(0x200) if mantissa != 0 else np.uint32(0)
-            out[i] = np.uint16(sign | np.uint32(0x7C00) | nan)
-            continue
-        e = exponent - 127 + 15
-        if e >= 31:  # too large: infinity
-            out[i] = np.uint16(sign | np.uint32(0x7C00))
-            continue
-        if e <= 0:  # a half subnormal, or zero
-            if e < -10:
-                out[i] = np.uint16(sign)
-                continue
-            mantissa |= np.uint32(0x800000)
-            shift = np.uint32(14 - e)
-            half = mantissa >> shift
-            rest = mantissa & ((np.uint32(1) << shift) - np.uint32(1))
-            tie = np.uint32(1) << (shift - np.uint32(1))
-            if rest > tie or (rest == tie and (half & np.uint32(1)) != 0):
-                half += np.uint32(1)
-            out[i] = np.uint16(sign | half)
-            continue
-        half = sign | (np.uint32(e) << np.uint32(10)) | (mantissa >> np.uint32(13))
-        rest = mantissa & np.uint32(0x1FFF)
-        if rest > np.uint32(0x1000) or (rest == np.uint32(0x1000) and (half & np.uint32(1)) != 0):
-            half += np.uint32(1)  # a carry into the exponent rounds up to the next binade
-        out[i] = np.uint16(half)
 
 
 @kernel

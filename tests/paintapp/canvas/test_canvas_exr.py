@@ -295,3 +295,18 @@ def test_a_huge_height_on_a_bare_texel_is_rejected_not_dropped(tmp_path):
     with pytest.raises(InputError, match="at most") as info:
         read_canvas_exr(path)
     assert info.value.key == "paint.height" and info.value.source == str(path)
+
+
+@pytest.mark.parametrize("exposure", [0.0, 1.5, -3.0])
+def test_the_preview_s_one_pass_gives_the_codes_of_the_array_form(exposure):
+    """:func:`encode_preview`'s kernel: the rows flipped, the exposure's float32 product, and
+    :func:`srgb8`'s codes, for RGB and RGBA pictures with what is clipped or replaced."""
+    rng = np.random.default_rng(5)
+    rgba = rng.uniform(-0.2, 1.3, (37, 23, 4)).astype(np.float32)
+    special = [np.nan, -np.nan, np.inf, -np.inf, -0.0, 1.0, 2.0, -1.0, 1e-45, 0.0031308]
+    rgba.reshape(-1)[: len(special) * 9 : 9] = special
+    for picture in (rgba, rgba[..., :3].copy()):
+        scaled = picture[::-1, :, :3] * np.float32(2.0**exposure)
+        np.testing.assert_array_equal(encode_preview(picture, exposure), srgb8(scaled))
+    with pytest.raises(ValueError, match="expected a picture"):
+        encode_preview(rgba[..., :2])
