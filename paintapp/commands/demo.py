@@ -140,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
             )
             write_forces_csv(out / "forces.csv", result.forces)
             write_strokes(out / "strokes.jsonl", strokes)
+            edges = paint_edge_widths(result.canvas.paint_m)  # while the plot is drawn
         finally:
             wait([plot])  # an error above goes first
         plot.result()
@@ -151,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
         f"{realtime(result.wall_s, strokes.duration_s)}"
     )
     texel = result.canvas.texel_size_m[0]
-    for width in paint_edge_widths(result.canvas.paint_m):
+    for width in edges:
         print(f"paint {width.describe(texel)}")
     for name in OUTPUT_NAMES:
         print(f"wrote {out / name}")
