@@ -217,6 +217,8 @@ class CanvasRenderer:
         outlines: Sequence[BrushOutline] = (),
         arrows: Sequence[ForceArrow] = (),
         framebuffer: moderngl.Framebuffer | None = None,
+        box: Box | None = None,
+        fill: tuple[float, float, float, float] | None = None,
     ) -> None:
         """Draw the canvas (as last updated) and overlays.
 
@@ -226,6 +228,9 @@ class CanvasRenderer:
             outlines, arrows: brush outlines and force arrows to draw on top.
             framebuffer: target (e.g. a window's); default an offscreen RGBA32F target that
                 :meth:`read_linear_rgba` reads back.
+            box: draw only the pixels of this box (x0, y0, x1, y1); the others keep what the
+                target held, or ``fill``.
+            fill: the colour the whole target is cleared to first (default the background).
         """
         textures = self._textures
         if textures is None:
@@ -237,13 +242,19 @@ class CanvasRenderer:
         framebuffer.use()
         self.ctx.viewport = (0, 0, *size)
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
-        framebuffer.clear(*BACKGROUND)
+        if fill is not None or box is None:
+            framebuffer.clear(*(fill or BACKGROUND))
         program = self._canvas_program(textures.layers)
         self._set_uniforms(program, view)
         textures.concentration.use(0)
         textures.surface.use(1)
         self._write_canvas_quad()
-        self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+        if box is not None:
+            self.ctx.scissor = (box[0], box[1], box[2] - box[0], box[3] - box[1])
+        try:
+            self._canvas_vao(textures.layers, program).render(moderngl.TRIANGLE_STRIP)
+        finally:
+            self.ctx.scissor = None
         self._draw_overlays(view, size, outlines, arrows)
 
     def render_cached(
@@ -363,13 +374,15 @@ class CanvasRenderer:
             buffer.release()
         self.ctx.disable(moderngl.BLEND)
 
-    def read_linear_rgba(self) -> np.ndarray:
-        """The last offscreen render as linear RGBA, (H, W, 4) float32, row 0 = bottom."""
+    def read_linear_rgba(self, box: Box | None = None) -> np.ndarray:
+        """The last offscreen render (or its pixels in ``box``) as linear RGBA, (H, W, 4)
+        float32, row 0 = bottom."""
         if self._target is None:
             raise RuntimeError("nothing rendered offscreen yet")
-        w, h = self._target.size
-        rgba = np.empty((h, w, 4), np.float32)
-        self._target.read_into(rgba, components=4, dtype="f4")  # straight into the array
+        x0, y0, x1, y1 = box or (0, 0, *self._target.size)
+        rgba = np.empty((y1 - y0, x1 - x0, 4), np.float32)
+        viewport = (x0, y0, x1 - x0, y1 - y0)
+        self._target.read_into(rgba, viewport, components=4, dtype="f4")  # into the array
         return rgba
 
     def render_linear_rgba(self, canvas: Canvas, **kwargs) -> np.ndarray:
