@@ -117,7 +117,7 @@ def patched(module: ModuleType, name: str, value: object, fn: Callable[[], None]
 
 
 def overlap_probe(canvas: Canvas, rounds: int) -> None:
-    """The lit picture and the EXR's paint channels (all blocks, picture channels zero), one
+    """The lit picture and the EXR's channels (the picture's channels zero), one
     after the other and side by side on two threads: whether the render leaves room for them."""
     rgba = np.zeros((canvas.height, canvas.width, 4), np.float32)
     names = ("R", "G", "B", "A", new_exr.HEIGHT, new_exr.WETNESS)
