@@ -12,7 +12,6 @@ trace the painter would have felt; the trace survives a loop that stopped early.
 
 from __future__ import annotations
 
-import struct
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
@@ -78,11 +77,18 @@ class ReplayDevice:
         data = _stack_samples(samples, source)
         _validate(data, source)
         self._t = data["t"] - data["t"][0]
-        self._pos = data["pos"]
-        self._pressure = data["pressure"]
-        self._tilt = data["tilt"]
-        self._twist = np.unwrap(data["twist"])
+        #: Per sample, what is interpolated between samples: position (3), tilt (2), twist
+        #: (unwrapped) and pressure, one row each (one interpolation a read).
+        self._rows = np.column_stack(
+            [data["pos"], data["tilt"], np.unwrap(data["twist"]), data["pressure"]]
+        )
+        #: Per sample: whether its tilt and twist equal the next sample's (then the read takes
+        #: them as they are, and the orientation is not computed again).
+        self._held = np.append(np.all(self._rows[1:, 3:6] == self._rows[:-1, 3:6], axis=1), True)
         self._buttons = data["buttons"]
+        #: The sample a read at the playback's time ``t`` starts from (``_t[k] <= t < _t[k+1]``),
+        #: kept from the last read: the time only moves forward, a sample at a time.
+        self._k = 0
         self.time_source = time_source
         self._info = info or SIMULATED_INFO
         self._t0: float | None = None
@@ -115,7 +121,12 @@ class ReplayDevice:
         self._t0 = None
 
     def _interp(self, t: float) -> tuple[int, float]:
-        k = int(np.searchsorted(self._t, t, side="right")) - 1
+        times, k = self._t, self._k
+        if k + 1 < len(times) and times[k] <= t < times[k + 1]:
+            span = times[k + 1] - times[k]
+            return k, 0.0 if span <= 0 else (t - times[k]) / span
+        k = int(np.searchsorted(times, t, side="right")) - 1
+        self._k = max(k, 0)
         if k < 0:
             return 0, 0.0
         if k >= len(self._t) - 1:
@@ -133,18 +144,18 @@ class ReplayDevice:
         else:
             k, a = self._interp(self._now)
             j = k + 1
-        pos = (1 - a) * self._pos[k] + a * self._pos[j]
-        tilt = (1 - a) * self._tilt[k] + a * self._tilt[j]
-        twist = (1 - a) * self._twist[k] + a * self._twist[j]
-        pressure = (1 - a) * self._pressure[k] + a * self._pressure[j]
+        rows = self._rows
+        row = (1 - a) * rows[k] + a * rows[j]
+        angles = rows[k, 3:6] if self._held[k] else row[3:6]  # tilt and twist
         buttons = int(self._buttons[j if a >= 1.0 else k])
-        return DeviceState(now, pos, self._quat(tilt, twist), float(pressure), buttons)
+        return DeviceState(now, row[:3], self._quat(angles), float(row[6]), buttons)
 
-    def _quat(self, tilt: np.ndarray, twist: float) -> np.ndarray:
-        """:func:`quat_from_tilt_twist`, computed again only when its arguments change."""
-        key = struct.pack("3d", tilt[0], tilt[1], twist)  # bit for bit (a -0.0 is not 0.0)
+    def _quat(self, angles: np.ndarray) -> np.ndarray:
+        """:func:`quat_from_tilt_twist` of ``angles`` (tilt x, tilt y, twist), computed again
+        only when they change."""
+        key = angles.tobytes()  # bit for bit (a -0.0 is not 0.0)
         if self._last_quat is None or self._last_quat[0] != key:
-            self._last_quat = (key, quat_from_tilt_twist(tilt, twist))
+            self._last_quat = (key, quat_from_tilt_twist(angles[:2], float(angles[2])))
         return self._last_quat[1].copy()
 
     def write(self, force_n: np.ndarray, torque_nm: np.ndarray) -> None:

@@ -55,6 +55,32 @@ def test_replay_interpolates_between_samples() -> None:
     assert state.buttons == 0
 
 
+def test_replay_reads_any_time_in_any_order() -> None:
+    """A read reuses the last read's pair of samples while the time stays between them; a time
+    before it, past the end or on a held tilt reads the same as a search from scratch."""
+    now = [0.0]
+    curved = press_stroke()
+    for s in curved:
+        s.position_m[0] = s.t_s**2  # not a line: a wrong pair of samples reads another value
+    ts = np.array([s.t_s for s in curved])
+    dev = ReplayDevice(curved, lambda: now[0])
+    held = press_stroke()
+    for s in held:
+        s.tilt_rad = np.array([0.1, -0.2])  # held: the orientation is computed once
+    steady = ReplayDevice(held, lambda: now[0])
+    dev.open()
+    steady.open()
+    for t in (0.024, 0.030, 0.5001, 0.2, 0.2, 0.0, 0.99, 1.5, 0.024):
+        now[0] = t
+        state = dev.read()
+        assert state.position_m[0] == pytest.approx(np.interp(t, ts, ts**2), abs=1e-15)
+        tilt, twist = tilt_twist_from_quat(state.orientation_wxyz)
+        u = min(t, 1.0)
+        assert tilt[0] == pytest.approx(0.2 * u, abs=1e-12) and twist == pytest.approx(u)
+        tilt, _ = tilt_twist_from_quat(steady.read().orientation_wxyz)
+        np.testing.assert_allclose(tilt, [0.1, -0.2], atol=1e-12)
+
+
 def test_replay_through_the_loop_records_the_forces_felt() -> None:
     clock = VirtualClock()
     dev = ReplayDevice(press_stroke(), clock.now_s)
