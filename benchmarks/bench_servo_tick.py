@@ -7,7 +7,11 @@ the write audit, the servo loop on the shared-memory force and state channels), 
 sample every 16 ticks and moves the simulated hand's target, and times each tick on a virtual
 clock: ``--ticks`` ticks back to back, then as many with ``--sleep-us`` of sleep after each (the
 process sleeps to each deadline: a tick then starts on a core that idled, and on these virtual
-machines costs several times as much). Prints the median tick in microseconds of each, per round.
+machines costs several times as much). Then a replay's ticks: the demo's stroke file played
+through :class:`paintapp.session.playback.ServoForcePath` on its virtual clock, record by record
+as ``paintapp demo`` plays it, a force published every second sample in place of the painting.
+Prints, per round, the median tick of the first two and the mean tick of the replay, in
+microseconds.
 """
 
 from __future__ import annotations
@@ -18,6 +22,8 @@ import time
 
 import numpy as np
 
+from brushes import StylusSample
+from paintapp.haptics.channel import ForceChannel
 from paintapp.haptics.clock import VirtualClock
 from paintapp.haptics.process import GatedDevice, ProcessOptions, build_device
 from paintapp.haptics.servo import ServoLoop
@@ -27,6 +33,9 @@ from paintapp.haptics.shared_state import (
     SharedStateChannel,
     SharedTarget,
 )
+from paintapp.resources import asset_path
+from paintapp.session.playback import ServoForcePath
+from paintapp.strokes.files import StrokeFile, read_strokes
 
 
 def _positive(text: str) -> int:
@@ -86,6 +95,22 @@ class TickBench:
         self.block.close()
 
 
+def replay_tick_us(strokes: StrokeFile) -> float:
+    """Mean tick, us, of the replay's force path over ``strokes`` (see the module docstring)."""
+    channel = ForceChannel()
+    path = ServoForcePath(strokes.samples, channel, source=strokes.source)
+    records = strokes.records
+    begin = time.perf_counter()
+    for i, record in enumerate(records):
+        if isinstance(record, StylusSample):
+            if i % 2 == 0:
+                channel.publish_force(record.t_s, (0.01 * (i % 7), 0.02, -0.1), (0.0, 1e-4, 0.0))
+            path.run_until(records[i + 1].t_s if i + 1 < len(records) else None)
+    seconds = time.perf_counter() - begin
+    path.close()
+    return 1e6 * seconds / max(path.ticks, 1)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--ticks", type=_positive, default=3000)
@@ -93,13 +118,16 @@ def main() -> int:
     parser.add_argument("--rounds", type=_positive, default=3)
     args = parser.parse_args()
     bench = TickBench()
+    strokes = read_strokes(asset_path("strokes", "demo.jsonl"))
     try:
         bench.run(1000, 0.0)  # first calls into numpy and the device
-        print("round  back to back (us)  after a sleep (us)")
+        replay_tick_us(strokes)
+        print("round  back to back (us)  after a sleep (us)  a replay's (us)")
         for r in range(args.rounds):
             warm = bench.run(args.ticks, 0.0)
             cold = bench.run(args.ticks, 1e-6 * args.sleep_us)
-            print(f"{r + 1:5d}  {warm:17.1f}  {cold:18.1f}", flush=True)
+            replay = replay_tick_us(strokes)
+            print(f"{r + 1:5d}  {warm:17.1f}  {cold:18.1f}  {replay:15.1f}", flush=True)
     finally:
         bench.close()
     return 0
