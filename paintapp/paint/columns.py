@@ -54,11 +54,6 @@ FILM_FLOOR_M = CANVAS_FILM_FLOOR_M
 #: Far under anything the eye sees; any of 1e-10 to 1e-8 m closes the holes.
 FRINGE_FLOOR_M = 1e-9
 
-#: Cells beyond its own block that a column's weights reach: the B-spline reaches a cell and a
-#: half from the column's centre, one beyond its block; the tent half of one. A texel farther
-#: has no weight, and every pass of the write-back would read it.
-REACH_CELLS = 1
-
 
 class TexelWeights(Protocol):
     """Per-texel weights shaping a column change (see :func:`column_rates`)."""
@@ -194,12 +189,12 @@ class ColumnWindow:
         self, r: tuple[int, int, int, int], behind: tuple[float, float] = (0.0, 0.0)
     ) -> tuple[int, int, int, int]:
         """Texels (x0, y0, x1, y1), half-open and clipped to the canvas, that the weights of
-        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and :data:`REACH_CELLS` around),
+        columns ``r`` = (i0, i1, j0, j1) reach (their blocks and :func:`reach_cells` around),
         and as far again as ``behind`` (texels, x and y) back the way the tip came."""
         i0, i1, j0, j1 = r
         ox, oy = self.origin_texel
         k, (w, h) = self.k, self.pixels
-        m = REACH_CELLS
+        m = reach_cells(k, self.kernel)
         bx, by = (math.ceil(abs(v)) + 1 if abs(v) >= 0.5 else 0 for v in behind)
         x0 = max(0, _floor(ox + (i0 - m) * k) - (bx if behind[0] > 0 else 0))
         x1 = min(w, _ceil(ox + (i1 + m) * k) + (bx if behind[0] < 0 else 0))
@@ -325,6 +320,14 @@ def _floor(v: float) -> int:
 
 def _ceil(v: float) -> int:
     return math.ceil(v - EDGE_TOLERANCE)
+
+
+def reach_cells(k: int, kernel: str = "bspline") -> float:
+    """Cells beyond its own block that a column's weights reach: the B-spline (``k > 1``)
+    reaches a cell and a half from the column's centre, one beyond its block; the tent a cell,
+    half of one beyond. A texel farther has no weight, and every pass of the write-back would
+    read it."""
+    return 1.0 if kernel == "bspline" and k > 1 else 0.5
 
 
 def transfer_weights(

@@ -31,6 +31,25 @@ def test_the_transfer_weights_stay_a_partition_of_unity_between_texels(kernel, o
     np.testing.assert_allclose(w[3:9].sum(axis=1), k, atol=1e-12)  # over a column's texels
 
 
+@pytest.mark.parametrize("kernel", ["bspline", "tent"])
+@pytest.mark.parametrize("k", [1, 2, 3, 9, 12])
+def test_the_write_back_box_holds_every_texel_a_column_weighs(kernel, k):
+    """The box the write-back reads (its columns' blocks and a cell around) holds every texel
+    with a weight from them, wherever between texels the window's corner lies, and little more."""
+    canvas = Canvas((400, 400), (0.04, 0.04), (BLUE,))
+    window = ColumnWindow(canvas, (6, 5), k, kernel, continuous=True)
+    rng = np.random.default_rng(k)
+    for _ in range(20):
+        window.origin_texel = tuple(rng.uniform(k + 1.0, 100.0, 2))
+        r = (1, 5, 0, 4)  # some of the columns
+        x0, y0, x1, y1 = window._texel_block(r)
+        for axis, (lo, hi, c0, c1) in enumerate(((x0, x1, r[0], r[1]), (y0, y1, r[2], r[3]))):
+            w = transfer_weights(window.origin_texel[axis], k, c0, c1, 0, 400, kernel)
+            weighed = np.flatnonzero(w.sum(axis=0) > 0.0)
+            assert lo <= weighed[0] and weighed[-1] < hi
+            assert weighed[0] - lo <= 1 and hi - 1 - weighed[-1] <= 1
+
+
 def test_a_window_between_texels_moves_paint_conserved_and_never_negative():
     rng = np.random.default_rng(3)
     canvas = Canvas((90, 80), (0.0225, 0.02), (BLUE, "cadmium_red"))
