@@ -34,8 +34,9 @@ def test_the_transfer_weights_stay_a_partition_of_unity_between_texels(kernel, o
 @pytest.mark.parametrize("kernel", ["bspline", "tent"])
 @pytest.mark.parametrize("k", [1, 2, 3, 9, 12])
 def test_the_write_back_box_holds_every_texel_a_column_weighs(kernel, k):
-    """The box the write-back reads (its columns' blocks and a cell around) holds every texel
-    with a weight from them, wherever between texels the window's corner lies, and little more."""
+    """The box the write-back reads (its columns' blocks and as far around as their weights
+    reach) holds every texel with a weight from them, wherever between texels the window's
+    corner lies, and a texel more at most on each side."""
     canvas = Canvas((400, 400), (0.04, 0.04), (BLUE,))
     window = ColumnWindow(canvas, (6, 5), k, kernel, continuous=True)
     rng = np.random.default_rng(k)
