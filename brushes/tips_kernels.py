@@ -63,7 +63,9 @@ def _rounded_box(x, y, z, p):
 
 
 @kernel
-def _tip(kind, p, scale, x, y, z):
+def tip_distance(kind, p, scale, x, y, z):
+    """The tip's signed distance at body-frame point (x, y, z), its compiled form ``(kind, p,
+    scale)``: what :func:`tip_sdf` and :func:`section_sdf` give at each point."""
     if scale != 1.0:  # Splayed: stretched laterally, the distance scaled down to a lower bound
         x, y, z = x / scale, y / scale, z / 1.0
     d = _round_cone(x, y, z, p) if kind == ROUND_CONE else _rounded_box(x, y, z, p)
@@ -74,11 +76,11 @@ def _tip(kind, p, scale, x, y, z):
 def tip_sdf(kind, params, scale, points, out):
     """``out[n]`` = the tip's signed distance at body-frame point ``points[n]`` ((n, 3))."""
     for n in range(points.shape[0]):
-        out[n] = _tip(kind, params, scale, points[n, 0], points[n, 1], points[n, 2])
+        out[n] = tip_distance(kind, params, scale, points[n, 0], points[n, 1], points[n, 2])
 
 
 @kernel
 def section_sdf(kind, params, scale, z, points, out):
     """``out[n]`` = the tip's signed distance at ``(points[n, 0], points[n, 1], z)`` ((n, 2))."""
     for n in range(points.shape[0]):
-        out[n] = _tip(kind, params, scale, points[n, 0], points[n, 1], z)
+        out[n] = tip_distance(kind, params, scale, points[n, 0], points[n, 1], z)

@@ -11,9 +11,10 @@ The weights (:class:`brushes.bristles.Bristles`) are profiles across the tip's m
 gets its position ``u`` in [-1, 1] across the tip's footprint (its cut at half the commanded
 depth, turned by its yaw). Inside the footprint and one cell around it the weights follow the
 profiles, elsewhere they are even; each clump keeps its ``u`` and draws a streak along the stroke.
-Only the footprint is shape code (its signed distance on the texels :func:`near_points` lists);
-the rest is one kernel pass over the box (:func:`texture_weights`), the profiles tabulated
-(:func:`profile_tables`).
+Only the footprint is shape code: its signed distance on the texels near it, in one kernel pass
+for a tip with a compiled form (:func:`footprint_sdf`), else through the shape's own ``sdf`` on
+the texels :func:`near_points` lists; the rest is one kernel pass over the box
+(:func:`texture_weights`), the profiles tabulated (:func:`profile_tables`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import numpy as np
 
 from brushes import Section
 from brushes.bristles import PROFILE_SAMPLES, Bristles, blur_level
+from brushes.tips_kernels import tip_distance
 from paintapp.canvas.regions import Box
 from solver import inline_kernel, kernel
 
@@ -110,6 +112,49 @@ def near_points(apex, radius_sq, sx0, sy0, nx, ny, body, index):
                 body[count, 1] = -sin * gx + cos * gy
                 index[count] = y * nx + x
                 count += 1
+    return count
+
+
+#: Texels a side of the blocks in which :func:`footprint_sdf` first reads the footprint's
+#: distance at the block's centre: the distance is 1-Lipschitz in the plane, so a block whose
+#: centre lies farther than the texture's reach plus the block's half diagonal holds no texel
+#: within the reach, and is skipped.
+CULL_TEXELS = 8
+
+
+@kernel
+def footprint_sdf(apex, radius_sq, tip, reach, sx0, sy0, out):
+    """The footprint's signed distance (m) into ``out`` (ny, nx), the texels of the box whose
+    first texel is (sx0, sy0), where the texture needs it: at the texels whose centres lie within
+    ``sqrt(radius_sq)`` of the :class:`Apex` and within ``reach`` of the footprint; inf elsewhere
+    (blocks of :data:`CULL_TEXELS` farther from it are skipped). ``tip`` = (kind, params, scale,
+    z): the tip's compiled form (:mod:`brushes.tips_kernels`) cut at body height z. Each value
+    is :func:`brushes.tips_kernels.section_sdf`'s at :func:`near_points`'s body-frame centre,
+    the same arithmetic. Returns how many texels were evaluated."""
+    texel, cx, cy, cos, sin = apex
+    kind, params, scale, z = tip
+    ny, nx = out.shape
+    out[:] = np.inf
+    b = CULL_TEXELS
+    far = reach + 0.5 * b * math.sqrt(2.0) * texel
+    count = 0
+    for by in range(0, ny, b):
+        for bx in range(0, nx, b):
+            gx = (sx0 + bx + 0.5 * b) * texel - cx
+            gy = (sy0 + by + 0.5 * b) * texel - cy
+            if (
+                tip_distance(kind, params, scale, cos * gx + sin * gy, -sin * gx + cos * gy, z)
+                > far
+            ):
+                continue
+            for y in range(by, min(by + b, ny)):
+                gy = (sy0 + y + 0.5) * texel - cy
+                for x in range(bx, min(bx + b, nx)):
+                    gx = (sx0 + x + 0.5) * texel - cx
+                    if gx * gx + gy * gy <= radius_sq:
+                        body_x, body_y = cos * gx + sin * gy, -sin * gx + cos * gy
+                        out[y, x] = tip_distance(kind, params, scale, body_x, body_y, z)
+                        count += 1
     return count
 
 
@@ -226,15 +271,10 @@ class BristleTexture:
         sy1 = min(y1, math.ceil((c[1] + radius) / t + 0.5))
         if sx1 <= sx0 or sy1 <= sy0:
             return None
-        shape = (sy1 - sy0, sx1 - sx0)
-        body = np.empty((shape[0] * shape[1], 2))
-        index = np.empty(shape[0] * shape[1], np.int64)
         apex = Apex(t, float(c[0]), float(c[1]), self.cos, self.sin)
-        count = near_points(apex, radius**2, sx0, sy0, shape[1], shape[0], body, index)
-        if count == 0:
+        sdf = self._footprint_sdf(apex, radius, (sx0, sy0, sx1, sy1))
+        if sdf is None:
             return None
-        sdf = np.full(shape, np.inf)
-        sdf.reshape(-1)[index[:count]] = self.footprint.sdf(body[:count])
         ax, ay = float(self.across[0]), float(self.across[1])
         footprint = FootprintSdf(sdf, sx0, sy0)
         a_lo, a_hi = footprint_across(apex, ax, ay, footprint)
@@ -249,3 +289,25 @@ class BristleTexture:
             x0, y0, apex, across, self.reach_m, footprint, (gain_table, loss_table), (gain, loss)
         )
         return gain, loss
+
+    def _footprint_sdf(self, apex: Apex, radius: float, box: Box) -> np.ndarray | None:
+        """The footprint's signed distance over the texels of ``box`` within ``radius`` of the
+        apex (inf elsewhere; :func:`footprint_sdf` where the tip has a compiled form, which also
+        leaves inf beyond the texture's reach), or None when no texel is that near."""
+        sx0, sy0, sx1, sy1 = box
+        shape = (sy1 - sy0, sx1 - sx0)
+        compiled = getattr(self.footprint.base, "kernel", None)
+        if compiled is not None:
+            kind, params, scale = compiled
+            tip = (kind, params, float(scale), float(self.footprint.z_m))
+            sdf = np.empty(shape)
+            count = footprint_sdf(apex, radius**2, tip, self.reach_m, sx0, sy0, sdf)
+            return sdf if count > 0 else None
+        body = np.empty((shape[0] * shape[1], 2))
+        index = np.empty(shape[0] * shape[1], np.int64)
+        count = near_points(apex, radius**2, sx0, sy0, shape[1], shape[0], body, index)
+        if count == 0:
+            return None
+        sdf = np.full(shape, np.inf)
+        sdf.reshape(-1)[index[:count]] = self.footprint.sdf(body[:count])
+        return sdf

@@ -222,3 +222,46 @@ def test_the_streaks_are_no_finer_than_the_texels_hold():
     radius = np.hypot(f[:, None], f[None, :])
     assert gain.max() - gain.min() > 0.3  # the streaks are there
     assert power[radius > 0.4].sum() < 0.1 * power[radius > 0.02].sum()
+
+
+class _Uncompiled:
+    """A tip shape without its compiled form: the texture reads its distances through ``sdf``."""
+
+    def __init__(self, shape) -> None:
+        self.shape = shape
+        self.bounding_radius_m = shape.bounding_radius_m
+
+    def sdf(self, points: np.ndarray) -> np.ndarray:
+        return self.shape.sdf(points)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    seed=st.integers(0, 2**31),
+    brush=st.sampled_from(["round_large", "round_small", "flat_wide"]),
+)
+def test_the_compiled_footprint_gives_the_same_weights_as_the_shape_s_own_distances(seed, brush):
+    """Through the tip's compiled form (one pass over the texels near the footprint, skipping
+    blocks beyond the texture's reach) the texture's weights are those of the shape's own
+    ``sdf`` at every texel near the apex, bit for bit, at any yaw, depth and place."""
+    rng = np.random.default_rng(seed)
+    preset = load_preset_named(brush, BRUSHES)
+    tip = preset.tip(float(rng.uniform(1.0, 1.6)))
+    texel = 1e-4
+    depth = float(rng.uniform(0.0002, 0.004))
+    args = (
+        np.array([0.02, 0.02]) + rng.uniform(-0.001, 0.001, 2),
+        float(rng.uniform(-4.0, 4.0)),
+        rng.normal(size=2),
+        texel,
+        float(rng.uniform(4, 14)) * texel,
+        float(rng.uniform(0.004, 0.012)),
+    )
+    compiled = BristleTexture(preset.bristles, Section(tip, depth), *args)
+    plain = BristleTexture(preset.bristles, Section(_Uncompiled(tip), depth), *args)
+    box = (100, 90, 310, 300)
+    got, want = compiled.weights(box), plain.weights(box)
+    assert (got is None) == (want is None)
+    if want is not None:
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])
