@@ -122,6 +122,15 @@ def near_points(apex, radius_sq, sx0, sy0, nx, ny, body, index):
 CULL_TEXELS = 8
 
 
+@inline_kernel
+def _distance_at(apex, tip, gx, gy):
+    """The tip's distance at the canvas offset (gx, gy) m from the :class:`Apex`, turned into
+    the body frame as :func:`near_points` turns it."""
+    _, _, _, cos, sin = apex
+    kind, params, scale, z = tip
+    return tip_distance(kind, params, scale, cos * gx + sin * gy, -sin * gx + cos * gy, z)
+
+
 @kernel
 def footprint_sdf(apex, radius_sq, tip, reach, sx0, sy0, out):
     """The footprint's signed distance (m) into ``out`` (ny, nx), the texels of the box whose
@@ -131,8 +140,7 @@ def footprint_sdf(apex, radius_sq, tip, reach, sx0, sy0, out):
     z): the tip's compiled form (:mod:`brushes.tips_kernels`) cut at body height z. Each value
     is :func:`brushes.tips_kernels.section_sdf`'s at :func:`near_points`'s body-frame centre,
     the same arithmetic. Returns how many texels were evaluated."""
-    texel, cx, cy, cos, sin = apex
-    kind, params, scale, z = tip
+    texel, cx, cy = apex.texel, apex.cx, apex.cy
     ny, nx = out.shape
     out[:] = np.inf
     b = CULL_TEXELS
@@ -142,18 +150,14 @@ def footprint_sdf(apex, radius_sq, tip, reach, sx0, sy0, out):
         for bx in range(0, nx, b):
             gx = (sx0 + bx + 0.5 * b) * texel - cx
             gy = (sy0 + by + 0.5 * b) * texel - cy
-            if (
-                tip_distance(kind, params, scale, cos * gx + sin * gy, -sin * gx + cos * gy, z)
-                > far
-            ):
+            if _distance_at(apex, tip, gx, gy) > far:
                 continue
             for y in range(by, min(by + b, ny)):
                 gy = (sy0 + y + 0.5) * texel - cy
                 for x in range(bx, min(bx + b, nx)):
                     gx = (sx0 + x + 0.5) * texel - cx
                     if gx * gx + gy * gy <= radius_sq:
-                        body_x, body_y = cos * gx + sin * gy, -sin * gx + cos * gy
-                        out[y, x] = tip_distance(kind, params, scale, body_x, body_y, z)
+                        out[y, x] = _distance_at(apex, tip, gx, gy)
                         count += 1
     return count
 
