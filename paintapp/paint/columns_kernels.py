@@ -642,10 +642,48 @@ def _swept_fields(fields, path, gain_s, frac_s, cap):
 
 
 @kernel
+def _room(frac, mobile):
+    """``(taken at scale 1, largest f where m > 0, sum of m where f > 0)`` over the flat arrays
+    ``frac`` and ``mobile``: :func:`_taken_slope`'s first pass, and the most that the fractions
+    can take at any scale (every texel emptied)."""
+    taken, _, top = _taken_slope(frac, mobile, 1.0)
+    size = frac.size
+    r0 = r1 = r2 = r3 = 0.0
+    end = size - size % 4
+    for n in range(0, end, 4):
+        r0 += mobile[n] if frac[n] > 0.0 else 0.0
+        r1 += mobile[n + 1] if frac[n + 1] > 0.0 else 0.0
+        r2 += mobile[n + 2] if frac[n + 2] > 0.0 else 0.0
+        r3 += mobile[n + 3] if frac[n + 3] > 0.0 else 0.0
+    for n in range(end, size):
+        r0 += mobile[n] if frac[n] > 0.0 else 0.0
+    return taken, top, (r0 + r1) + (r2 + r3)
+
+
+@kernel
+def _kept_slope(frac, mobile, size, scale):
+    """``(sum of f m, new size, sum of the m moved out)`` over the first ``size`` entries of the
+    flat arrays ``frac`` and ``mobile``, moving out those that ``scale`` empties
+    (``scale f >= 1``): the rest are packed, in order, at the front of both arrays."""
+    slope, emptied = 0.0, 0.0
+    kept = 0
+    for n in range(size):
+        f, m = frac[n], mobile[n]
+        if scale * f < 1.0:
+            slope += f * m
+            frac[kept], mobile[kept] = f, m
+            kept += 1
+        else:
+            emptied += m
+    return slope, kept, emptied
+
+
+@kernel
 def _water_fill(frac_s, mobile, scale, lost):
     """``(scale, taken)``: the scale at which the swept fractions take ``lost`` (to 1e-12 of
     it), from ``scale``, and what they take, ``taken = sum min(scale f, 1) m`` (after 31 passes
-    without getting there: what the last pass took, before its step).
+    without getting there: what the last pass took, before its step). ``frac_s`` and ``mobile``
+    are scratch: their entries are reordered and overwritten.
 
     ``taken(s) = sum min(s f, 1) m`` is piecewise linear, increasing and concave in ``s``, so
     Newton's method (the slope: the ``f m`` of the texels not yet emptied) reaches the root from
@@ -653,13 +691,24 @@ def _water_fill(frac_s, mobile, scale, lost):
     on a painting window's texels where the fixed-point step ``s *= lost / taken`` took three to
     31, its cap, at which it had stopped short of the root (and the sweep then kept the step's
     unswept change). A step that would not leave ``s > 0`` (from above the root with most of the
-    paint in emptied texels), or no slope, falls back to that fixed-point step."""
+    paint in emptied texels), or no slope, falls back to that fixed-point step. Once a pass
+    has taken less than ``lost``, every later scale is larger (a step from below the root stays
+    below it), so a texel that a later pass finds emptied stays emptied: that pass moves it out
+    of the arrays and keeps only its sum (:func:`_kept_slope`), and the passes grow shorter."""
     frac, held = frac_s.reshape(-1), mobile.reshape(-1)
+    size, emptied, below = frac.size, 0.0, False
     taken = 0.0
     for _ in range(31):
-        taken, slope, _ = _taken_slope(frac, held, scale)
+        if below:
+            slope, size, out = _kept_slope(frac, held, size, scale)
+            emptied += out
+            taken = scale * slope + emptied
+        else:
+            taken, slope, _ = _taken_slope(frac[:size], held[:size], scale)
+            taken += emptied
         if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
             break
+        below = taken < lost
         step = scale + (lost - taken) / slope if slope > 0.0 else 0.0
         scale = step if step > 0.0 and np.isfinite(step) else scale * lost / taken
     return scale, taken
@@ -740,9 +789,12 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                 if r > 0.0:
                     ratio_n[n], cap_n[n] = r, c
                     n += 1
-        # The first pass of the water-filling (scale 1) also finds the largest ratio: when the
-        # scaled ratios stay within 1, no texel reaches its cap and the scale is exact.
-        taken, _, top = _taken_slope(ratio_n[:n], cap_n[:n], 1.0)
+        # The first pass of the water-filling (scale 1) also finds the largest ratio (when the
+        # scaled ratios stay within 1, no texel reaches its cap and the scale is exact) and all
+        # that the caps hold (when that is less than the loss, no scale takes it).
+        taken, top, room = _room(ratio_n[:n], cap_n[:n])
+        if room < lost * (1.0 - 1e-9):
+            continue  # the caps meet too little paint: keep the unswept change
         scale = 1.0
         if taken > 0.0 and abs(taken - lost) > 1e-12 * lost:
             scale = lost / taken

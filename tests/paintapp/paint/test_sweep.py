@@ -133,7 +133,7 @@ def test_the_water_filling_finds_the_scale_that_takes_exactly_the_loss(seed, sha
     mobile = rng.uniform(0.0, 1e-5, (23, 37)) * (rng.random((23, 37)) > 0.1)
     held = float(np.sum(mobile[frac > 0.0]))
     lost = share * held
-    scale, taken = _water_fill(frac, mobile, start, lost)
+    scale, taken = _water_fill(frac.copy(), mobile.copy(), start, lost)  # it reorders them
     assert scale > 0.0
     assert abs(_taken(frac, mobile, scale) - lost) <= 1e-11 * lost
     assert taken == pytest.approx(_taken(frac, mobile, scale), rel=1e-12)
@@ -178,3 +178,26 @@ def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
     assert np.all(out[:, 5:25, 6:10] < mobile[:, 5:25, 6:10])
     # ...and the patch's far end keeps some (its own loss moved back), none goes below zero
     assert np.all(out[:, 5:25, 36:40] > 0.0)
+
+
+def test_a_loss_the_caps_cannot_hold_keeps_its_unswept_change():
+    # Pigment 0 loses all of one texel's paint among texels holding a film a ten-thousandth as
+    # thick: swept back along ten texels, the loss would have to come from the film (each
+    # texel capped at its own paint) and from half of that texel's paint (the nearest sample
+    # reads it with half its weight), less than the loss: no scale takes it, and the pigment
+    # keeps its change as the step left it. Pigment 1's ordinary change is still swept.
+    paint = np.full((2, 20, 40), 1e-9, np.float32)
+    paint[0, 10, 20] = 1e-5
+    paint[1] = np.random.default_rng(5).uniform(1e-6, 1e-5, (20, 40))
+    wet = np.ones((20, 40), np.float32)
+    mobile = paint.astype(np.float64)
+    new = mobile.copy()
+    new[0, 10, 20] = 0.0
+    new[1, 8:12, 20:24] *= 0.5
+    new[1, 8:12, 24:26] += 1e-5
+    out = new.copy()
+    assert sweep_change(paint, wet, 0, 0, out, np.zeros((20, 40), bool), np.zeros((20, 40)),
+                        10.0, 0.0, 1.0, every(paint))  # fmt: skip
+    np.testing.assert_array_equal(out[0], new[0])
+    assert not np.array_equal(out[1], new[1])
+    np.testing.assert_allclose(out[1].sum(), new[1].sum(), rtol=1e-9)
