@@ -213,11 +213,6 @@ def _row_values(columns, fy_y, ty_y, active, out):
                 out[p, i] += w * columns[p, i, j]
 
 
-@inline_kernel
-def _at_texel(row, p, i0, tx_x):
-    return tx_x[0] * row[p, i0] + tx_x[1] * row[p, i0 + 1] + tx_x[2] * row[p, i0 + 2]
-
-
 @kernel
 def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched, total):
     """New mobile paint (P, ny, nx) into ``new_mobile``, the texels of ``box`` (a
@@ -228,7 +223,8 @@ def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched,
     (``g``, ``b``: the gain and loss weights ``texture`` when ``textured``, else 1 and 1).
     A pigment ``active`` (P,) does not mark has no rates (all zero): its texels keep their
     mobile paint, the same value its rates would give, without reading them. Reads the canvas
-    only."""
+    only. Row by row, each pigment's texels in turn (a pigment that does not change is a
+    plain copy the compiler vectorises)."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
     gain, first, rest = rates
     gain_w, loss_w = texture
@@ -237,36 +233,43 @@ def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched,
     row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column
     row_first = np.zeros((n_p, ni + TAPS - 1))
     row_rest = np.zeros((n_p, ni + TAPS - 1))
+    w0, w1, w2 = tx[:, 0].copy(), tx[:, 1].copy(), tx[:, 2].copy()
+    share = np.empty(nx)
     for y in range(ny):
         _row_values(gain, fy[y], ty[y], active, row_gain)
         _row_values(first, fy[y], ty[y], active, row_first)
         if textured:
             _row_values(rest, fy[y], ty[y], active, row_rest)
+        wet_row, t_row, c_row = wetness[y0 + y, x0 : x0 + nx], total[y], touched[y]
         for x in range(nx):
-            share = _mobile_share(wetness[y0 + y, x0 + x])
-            g = gain_w[y, x] if textured else 1.0
-            b = loss_w[y, x] if textured else 1.0
-            i0 = fx[x]
-            changed = False
-            t = 0.0
-            for p in range(n_p):
-                held = paint[p, y0 + y, x0 + x]
-                mobile = held * share
-                if not active[p]:
-                    new_mobile[p, y, x] = mobile
-                    t += held * (1.0 - share) + mobile
-                    continue
-                laid = g * _at_texel(row_gain, p, i0, tx[x])
-                lost = mobile * b * _at_texel(row_first, p, i0, tx[x])
+            share[x] = _mobile_share(wet_row[x])
+            t_row[x] = 0.0
+            c_row[x] = False
+        for p in range(n_p):
+            held_row, out = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
+            if not active[p]:
+                for x in range(nx):
+                    held = held_row[x]
+                    mobile = held * share[x]
+                    out[x] = mobile
+                    t_row[x] += held * (1.0 - share[x]) + mobile
+                continue
+            rg, rf, rr = row_gain[p], row_first[p], row_rest[p]
+            for x in range(nx):
+                held, s, i0 = held_row[x], share[x], fx[x]
+                mobile = held * s
+                g = gain_w[y, x] if textured else 1.0
+                b = loss_w[y, x] if textured else 1.0
+                laid = g * (w0[x] * rg[i0] + w1[x] * rg[i0 + 1] + w2[x] * rg[i0 + 2])
+                lost = mobile * b * (w0[x] * rf[i0] + w1[x] * rf[i0 + 1] + w2[x] * rf[i0 + 2])
                 if textured:
-                    lost += mobile * (1.0 - b) * _at_texel(row_rest, p, i0, tx[x])
+                    at_rest = w0[x] * rr[i0] + w1[x] * rr[i0 + 1] + w2[x] * rr[i0 + 2]
+                    lost += mobile * (1.0 - b) * at_rest
                 if lost > 0.0 or laid > 0.0:
-                    changed = True
+                    c_row[x] = True
                 m = max(mobile - lost, 0.0) + laid
-                new_mobile[p, y, x] = m
-                t += held * (1.0 - share) + m
-            touched[y, x] = changed
-            total[y, x] = t
+                out[x] = m
+                t_row[x] += held * (1.0 - s) + m
 
 
 @kernel
@@ -473,33 +476,44 @@ def store_texels(paint, wetness, x0, y0, new_mobile, touched, max_paint, bounds)
     n_p, ny, nx = new_mobile.shape
     bad = 0
     bx0, by0, bx1, by1 = nx, ny, -1, -1
+    dry_share, total, wet = np.empty(nx), np.empty(nx), np.empty(nx)
+    stored = np.empty(nx, np.bool_)
     for y in range(ny):
+        t_row = touched[y]
         for x in range(nx):
-            if not touched[y, x]:
-                continue
-            bx0, bx1 = min(bx0, x), max(bx1, x)
-            by0, by1 = min(by0, y), max(by1, y)
-            dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
-            total = 0.0
-            wet = 0.0
-            stored = False
-            for p in range(n_p):
-                v = paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
-                total += v
-                wet += new_mobile[p, y, x]
+            if t_row[x]:
+                bx0, bx1 = min(bx0, x), max(bx1, x)
+                by0, by1 = min(by0, y), max(by1, y)
+        if by1 < y:
+            continue  # no texel of this row is touched
+        wet_row = wetness[y0 + y, x0 : x0 + nx]
+        for x in range(nx):
+            dry_share[x] = 1.0 - _mobile_share(wet_row[x])
+            total[x], wet[x], stored[x] = 0.0, 0.0, False
+        for p in range(n_p):
+            held, new_row = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
+            for x in range(nx):
+                v = held[x] * dry_share[x] + new_row[x]
+                total[x] += v
+                wet[x] += new_row[x]
                 f = np.float32(v)
                 if not np.isfinite(f):
-                    bad += 1
+                    bad += 1 if t_row[x] else 0
                     f = np.float32(0.0)
                 f = min(max(f, np.float32(0.0)), np.float32(max_paint))
-                paint[p, y0 + y, x0 + x] = f
-                stored = stored or f > 0.0
+                if t_row[x]:
+                    held[x] = f
+                stored[x] = stored[x] or f > 0.0
+        for x in range(nx):
+            if not t_row[x]:
+                continue
             # no wetness where no paint is left once stored (a total below float32's range)
-            share = np.float32(wet / total) if total > 0.0 and stored else np.float32(0.0)
+            t = total[x]
+            share = np.float32(wet[x] / t) if t > 0.0 and stored[x] else np.float32(0.0)
             if not np.isfinite(share):
                 bad += 1
                 share = np.float32(0.0)
-            wetness[y0 + y, x0 + x] = min(max(share, np.float32(0.0)), np.float32(1.0))
+            wet_row[x] = min(max(share, np.float32(0.0)), np.float32(1.0))
     bounds[0], bounds[1] = x0 + bx0, y0 + by0
     bounds[2], bounds[3] = x0 + bx1 + 1, y0 + by1 + 1
     return bad
