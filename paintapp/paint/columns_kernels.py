@@ -829,12 +829,13 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                     t_row[x] = True
                 new_row[x] = new
         done = True
-    if done:
+    if done:  # each texel's new total, pigment by pigment along the rows
         for y in range(ny):
+            t_row, share_row = total[y], share[y]
             for x in range(nx):
-                dry_share = 1.0 - _mobile_share(wetness[y0 + y, x0 + x])
-                t = 0.0
-                for p in range(n_p):
-                    t += paint[p, y0 + y, x0 + x] * dry_share + new_mobile[p, y, x]
-                total[y, x] = t
+                t_row[x] = 0.0
+            for p in range(n_p):
+                held, new_row = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
+                for x in range(nx):
+                    t_row[x] += held[x] * (1.0 - share_row[x]) + new_row[x]
     return done
