@@ -193,24 +193,25 @@ def _runs_into(values, x0, share, shared, fx, tx, out):
 
 
 @kernel
-def _row_values(columns, fy_y, ty_y, active, out):
-    """``out[p, i]`` = the column values ``columns`` (P, ni, nj) summed over j with one texel
-    row's weights, for the pigments ``active`` marks (``out`` may be longer than ``ni``: the
-    rest, and the other pigments' rows, are left alone)."""
-    n_p, ni, _ = columns.shape
+def _spread_along_x(columns, fx, tx, active, out):
+    """``out[p, j, x]`` = the column values ``columns`` (P, ni, nj) of column row ``j`` weighed
+    along x at texel column ``x`` (``sum_a tx[x, a] columns[p, fx[x] + a, j]``), for the
+    pigments ``active`` marks; ``out`` is (P, nj + TAPS - 1, nx), its last rows left as they
+    are (zeros: a texel row's zero taps may pass the last row of columns)."""
+    n_p, ni, nj = columns.shape
+    nx = fx.shape[0]
     for p in range(n_p):
-        if active[p]:
-            out[p, :ni] = 0.0
-    for c in range(TAPS):
-        w = ty_y[c]
-        if w == 0.0:
+        if not active[p]:
             continue
-        j = fy_y + c
-        for p in range(n_p):
-            if not active[p]:
-                continue
-            for i in range(ni):
-                out[p, i] += w * columns[p, i, j]
+        for j in range(nj):
+            row = out[p, j]
+            for x in range(nx):
+                i0 = fx[x]
+                v = 0.0
+                for a in range(TAPS):
+                    if i0 + a < ni:
+                        v += tx[x, a] * columns[p, i0 + a, j]
+                row[x] = v
 
 
 @kernel
@@ -223,28 +224,26 @@ def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched,
     (``g``, ``b``: the gain and loss weights ``texture`` when ``textured``, else 1 and 1).
     A pigment ``active`` (P,) does not mark has no rates (all zero): its texels keep their
     mobile paint, the same value its rates would give, without reading them. Reads the canvas
-    only. Row by row, each pigment's texels in turn (a pigment that does not change is a
-    plain copy the compiler vectorises)."""
+    only. The rates are weighed along x once for each row of columns, then each texel row,
+    pigment by pigment, reads three of those rows in order (the compiler vectorises it; a
+    pigment that does not change is a plain copy)."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
-    gain, first, rest = rates
     gain_w, loss_w = texture
-    n_p, ni, _ = gain.shape
+    n_p, _, nj = rates[0].shape
     nx, ny = fx.shape[0], fy.shape[0]
-    row_gain = np.zeros((n_p, ni + TAPS - 1))  # padded with zeros past the last column
-    row_first = np.zeros((n_p, ni + TAPS - 1))
-    row_rest = np.zeros((n_p, ni + TAPS - 1))
-    w0, w1, w2 = tx[:, 0].copy(), tx[:, 1].copy(), tx[:, 2].copy()
+    # each rate weighed along x first, for every row of columns (their rows are few): a texel
+    # row is then three of those rows weighed along y, read in order
+    spread = np.zeros((3, n_p, nj + TAPS - 1, nx))
+    for k in range(3 if textured else 2):
+        _spread_along_x(rates[k], fx, tx, active, spread[k])
     share = np.empty(nx)
     for y in range(ny):
-        _row_values(gain, fy[y], ty[y], active, row_gain)
-        _row_values(first, fy[y], ty[y], active, row_first)
-        if textured:
-            _row_values(rest, fy[y], ty[y], active, row_rest)
         wet_row, t_row, c_row = wetness[y0 + y, x0 : x0 + nx], total[y], touched[y]
         for x in range(nx):
             share[x] = _mobile_share(wet_row[x])
             t_row[x] = 0.0
             c_row[x] = False
+        j0, v0, v1, v2 = fy[y], ty[y, 0], ty[y, 1], ty[y, 2]
         for p in range(n_p):
             held_row, out = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
             if not active[p]:
@@ -254,17 +253,18 @@ def spread_to_texels(box, rates, texture, textured, active, new_mobile, touched,
                     out[x] = mobile
                     t_row[x] += held * (1.0 - share[x]) + mobile
                 continue
-            rg, rf, rr = row_gain[p], row_first[p], row_rest[p]
+            g0, g1, g2 = spread[0, p, j0], spread[0, p, j0 + 1], spread[0, p, j0 + 2]
+            f0, f1, f2 = spread[1, p, j0], spread[1, p, j0 + 1], spread[1, p, j0 + 2]
+            r0, r1, r2 = spread[2, p, j0], spread[2, p, j0 + 1], spread[2, p, j0 + 2]
             for x in range(nx):
-                held, s, i0 = held_row[x], share[x], fx[x]
+                held, s = held_row[x], share[x]
                 mobile = held * s
                 g = gain_w[y, x] if textured else 1.0
                 b = loss_w[y, x] if textured else 1.0
-                laid = g * (w0[x] * rg[i0] + w1[x] * rg[i0 + 1] + w2[x] * rg[i0 + 2])
-                lost = mobile * b * (w0[x] * rf[i0] + w1[x] * rf[i0 + 1] + w2[x] * rf[i0 + 2])
+                laid = g * (v0 * g0[x] + v1 * g1[x] + v2 * g2[x])
+                lost = mobile * b * (v0 * f0[x] + v1 * f1[x] + v2 * f2[x])
                 if textured:
-                    at_rest = w0[x] * rr[i0] + w1[x] * rr[i0 + 1] + w2[x] * rr[i0 + 2]
-                    lost += mobile * (1.0 - b) * at_rest
+                    lost += mobile * (1.0 - b) * (v0 * r0[x] + v1 * r1[x] + v2 * r2[x])
                 if lost > 0.0 or laid > 0.0:
                     c_row[x] = True
                 m = max(mobile - lost, 0.0) + laid
