@@ -130,50 +130,60 @@ def texels_to_columns(box, texture, textured, active, out_mobile, out_gain):
     weights (when ``textured``); ``texture`` is the (gain, loss) weights, each (ny, nx). Both are
     overwritten.
 
-    Per texel row, each pigment's texels in turn: a run of texels whose weights start at the same
-    column (``k`` of them) sums its three taps in registers and adds them to the row's columns
-    once, instead of a load and a store per tap and texel (each waiting on the last one's)."""
+    Along y first: each texel row, weighed, is added to the texel-wide rows of the (few) rows of
+    columns its weights reach (whole rows in order, which the compiler vectorises); then each of
+    those rows is summed along x into its columns, a run of texels whose weights start at the
+    same column (``k`` of them) summing its three taps in registers."""
     paint, wetness, x0, y0, fx, tx, fy, ty = box
     gain_w, loss_w = texture
-    n_p, ni, _ = out_mobile.shape
+    n_p, ni, nj = out_mobile.shape
     nx, ny = fx.shape[0], fy.shape[0]
     out_mobile[:] = 0.0
     out_gain[:] = 0.0
     if nx == 0:
         return
-    row = np.zeros((n_p, ni + TAPS - 1))  # padded: a texel's zero taps may pass the last column
-    row_g = np.zeros(ni + TAPS - 1)
+    rows = np.zeros((n_p, nj + TAPS - 1, nx))  # padded: a texel's zero taps may pass the last row
+    rows_g = np.zeros((nj + TAPS - 1, nx))
     share = np.empty(nx)
     for y in range(ny):
-        row[:] = 0.0
-        row_g[:] = 0.0
-        wet_row = wetness[y0 + y]
+        wet_row = wetness[y0 + y, x0 : x0 + nx]
         for x in range(nx):
-            share[x] = _mobile_share(wet_row[x0 + x])
+            share[x] = _mobile_share(wet_row[x])
         if textured:
             loss_row = loss_w[y]
             for x in range(nx):
                 share[x] *= loss_row[x]
-            _runs_into(gain_w[y], 0, share, False, fx, tx, row_g)
-        for p in range(n_p):
-            if active[p]:
-                _runs_into(paint[p, y0 + y], x0, share, True, fx, tx, row[p])
         j0 = fy[y]
         for c in range(TAPS):
             w = ty[y, c]
             if w == 0.0:
                 continue
-            for i in range(ni):
-                for p in range(n_p):
-                    out_mobile[p, i, j0 + c] += w * row[p, i]
-                out_gain[i, j0 + c] += w * row_g[i]
+            if textured:
+                g_out, g_in = rows_g[j0 + c], gain_w[y]
+                for x in range(nx):
+                    g_out[x] += w * g_in[x]
+            for p in range(n_p):
+                if active[p]:
+                    out, held = rows[p, j0 + c], paint[p, y0 + y, x0 : x0 + nx]
+                    for x in range(nx):
+                        out[x] += w * (held[x] * share[x])
+    column = np.zeros(ni + TAPS - 1)  # padded: a texel's zero taps may pass the last column
+    for j in range(nj):
+        for p in range(n_p):
+            if active[p]:
+                _runs_into(rows[p, j], fx, tx, column)
+                out_mobile[p, :, j] = column[:ni]
+        if textured:
+            _runs_into(rows_g[j], fx, tx, column)
+            out_gain[:, j] = column[:ni]
 
 
 @inline_kernel
-def _runs_into(values, x0, share, shared, fx, tx, out):
-    """``out[fx[x] + a] += tx[x, a] * v`` for every texel ``x`` of a row (``v``: ``values[x0 + x]``,
-    times ``share[x]`` when ``shared``), summed in registers over each run of texels with the
-    same first column. Written for :data:`TAPS` = 3; ``fx`` must not be empty."""
+def _runs_into(values, fx, tx, out):
+    """``out[fx[x] + a] = sum over x of tx[x, a] * values[x]`` for every texel ``x`` of a row
+    (``out`` overwritten), summed in registers over each run of texels with the same first
+    column. Written for :data:`TAPS` = 3; ``fx`` must not be empty."""
+    out[:] = 0.0
     cur = fx[0]
     a0 = a1 = a2 = 0.0
     for x in range(fx.shape[0]):
@@ -183,7 +193,7 @@ def _runs_into(values, x0, share, shared, fx, tx, out):
             out[cur + 1] += a1
             out[cur + 2] += a2
             cur, a0, a1, a2 = i, 0.0, 0.0, 0.0
-        v = values[x0 + x] * share[x] if shared else values[x0 + x]
+        v = values[x]
         a0 += tx[x, 0] * v
         a1 += tx[x, 1] * v
         a2 += tx[x, 2] * v
