@@ -619,17 +619,28 @@ def _path_samples(dx, dy, samples):
     return offs_i, offs_j, w
 
 
+@inline_kernel
+def _gain_loss(w, a0, a1, b0, b1):
+    """The bilinear read, with the weights ``w`` (4,), of the gains ``max(c, 0)`` and of the
+    losses ``max(-c, 0)`` of the changes ``c`` at four texels (``a0``, ``a1`` on the first row,
+    ``b0``, ``b1`` on the next)."""
+    g = w[0] * max(a0, 0.0) + w[1] * max(a1, 0.0) + w[2] * max(b0, 0.0) + w[3] * max(b1, 0.0)
+    lo = w[0] * max(-a0, 0.0) + w[1] * max(-a1, 0.0) + w[2] * max(-b0, 0.0) + w[3] * max(-b1, 0.0)
+    return g, lo
+
+
 @kernel
 def _swept_fields(fields, path, gain_s, frac_s, cap):
     """The step's fields moved back along the path, in one pass over the rows: ``fields`` =
-    (gain, loss, frac), each (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros
-    on every side (at least ``|d| + 1``), ``path`` = (pad_x, pad_y, dx, dy, samples). Each is
-    read at ``(k + 1/2) / samples`` of the way along (dx, dy) ahead, bilinearly: ``gain_s`` and
-    ``frac_s`` (ny, nx) get the means of the gains and of the losses, ``cap`` the largest
-    ``frac`` read. Row by row, every sample's reads summed into the row in turn (the rows stay in
-    the first-level cache), unsigned indices, then the division by ``samples``; returns the sum
-    of ``gain_s``, row by row (:func:`_sum`)."""
-    gain, loss, frac = fields
+    (change, frac), each (ny, nx) padded with ``pad_y`` rows and ``pad_x`` columns of zeros on
+    every side (at least ``|d| + 1``), ``path`` = (pad_x, pad_y, dx, dy, samples). Each is read
+    at ``(k + 1/2) / samples`` of the way along (dx, dy) ahead, bilinearly: ``gain_s`` and
+    ``frac_s`` (ny, nx) get the means of the gains (the positive changes) and of the losses (the
+    negative ones, as amounts), ``cap`` the largest ``frac`` read. Row by row, every sample's
+    reads summed into the row in turn (the rows stay in the first-level cache), unsigned
+    indices, then the division by ``samples``; returns the sum of ``gain_s``, row by row
+    (:func:`_sum`)."""
+    change, frac = fields
     pad_x, pad_y, dx, dy, samples = path
     ny, nx = gain_s.shape
     total = 0.0
@@ -639,22 +650,23 @@ def _swept_fields(fields, path, gain_s, frac_s, cap):
         for k in range(samples):
             ya = np.uint64(y + pad_y + offs_j[k])
             yb = ya + np.uint64(1)
-            ga, gb, la, lb, fa, fb = gain[ya], gain[yb], loss[ya], loss[yb], frac[ya], frac[yb]
-            w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
+            ca, cb, fa, fb = change[ya], change[yb], frac[ya], frac[yb]
+            wk = w[k]
+            w00, w10, w01, w11 = wk[0], wk[1], wk[2], wk[3]
             xo = pad_x + offs_i[k]
             if k == 0:
                 for x in range(nx):
                     xa = np.uint64(x + xo)
                     xb = xa + np.uint64(1)
-                    g_out[x] = w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
-                    f_out[x] = w00 * la[xa] + w10 * la[xb] + w01 * lb[xa] + w11 * lb[xb]
+                    g_out[x], f_out[x] = _gain_loss(wk, ca[xa], ca[xb], cb[xa], cb[xb])
                     c_out[x] = w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
             else:
                 for x in range(nx):
                     xa = np.uint64(x + xo)
                     xb = xa + np.uint64(1)
-                    g_out[x] += w00 * ga[xa] + w10 * ga[xb] + w01 * gb[xa] + w11 * gb[xb]
-                    f_out[x] += w00 * la[xa] + w10 * la[xb] + w01 * lb[xa] + w11 * lb[xb]
+                    g, lo = _gain_loss(wk, ca[xa], ca[xb], cb[xa], cb[xb])
+                    g_out[x] += g
+                    f_out[x] += lo
                     c_out[x] = max(
                         c_out[x], w00 * fa[xa] + w10 * fa[xb] + w01 * fb[xa] + w11 * fb[xb]
                     )
@@ -668,20 +680,32 @@ def _swept_fields(fields, path, gain_s, frac_s, cap):
 @kernel
 def _room(frac, mobile):
     """``(taken at scale 1, largest f where m > 0, sum of m where f > 0)`` over the flat arrays
-    ``frac`` and ``mobile``: :func:`_taken_slope`'s first pass, and the most that the fractions
-    can take at any scale (every texel emptied)."""
-    taken, _, top = _taken_slope(frac, mobile, 1.0)
+    ``frac`` and ``mobile``, in one pass of four interleaved partial sums each: what
+    :func:`_taken_slope` gives at scale 1 (the same bits), and the most that the fractions can
+    take at any scale (every texel emptied)."""
     size = frac.size
+    t0 = t1 = t2 = t3 = 0.0
     r0 = r1 = r2 = r3 = 0.0
+    top = 0.0
     end = size - size % 4
     for n in range(0, end, 4):
-        r0 += mobile[n] if frac[n] > 0.0 else 0.0
-        r1 += mobile[n + 1] if frac[n + 1] > 0.0 else 0.0
-        r2 += mobile[n + 2] if frac[n + 2] > 0.0 else 0.0
-        r3 += mobile[n + 3] if frac[n + 3] > 0.0 else 0.0
+        f0, f1, f2, f3 = frac[n], frac[n + 1], frac[n + 2], frac[n + 3]
+        m0, m1, m2, m3 = mobile[n], mobile[n + 1], mobile[n + 2], mobile[n + 3]
+        t0 += min(f0, 1.0) * m0
+        t1 += min(f1, 1.0) * m1
+        t2 += min(f2, 1.0) * m2
+        t3 += min(f3, 1.0) * m3
+        r0 += m0 if f0 > 0.0 else 0.0
+        r1 += m1 if f1 > 0.0 else 0.0
+        r2 += m2 if f2 > 0.0 else 0.0
+        r3 += m3 if f3 > 0.0 else 0.0
+        top = max(top, max(f0 if m0 > 0.0 else 0.0, f1 if m1 > 0.0 else 0.0))
+        top = max(top, max(f2 if m2 > 0.0 else 0.0, f3 if m3 > 0.0 else 0.0))
     for n in range(end, size):
+        t0 += min(frac[n], 1.0) * mobile[n]
         r0 += mobile[n] if frac[n] > 0.0 else 0.0
-    return taken, top, (r0 + r1) + (r2 + r3)
+        top = max(top, frac[n] if mobile[n] > 0.0 else 0.0)
+    return (t0 + t1) + (t2 + t3), top, (r0 + r1) + (r2 + r3)
 
 
 @kernel
@@ -763,9 +787,9 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         return False
     samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
     pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
-    gain = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept_fields`
-    loss = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
+    change = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))  # zero-padded for :func:`_swept_fields`
     frac = np.zeros((ny + 2 * pad_y, nx + 2 * pad_x))
+    gain_row, loss_row = np.empty(nx), np.empty(nx)  # a row's gains and losses, to be summed
     gain_s = np.empty((ny, nx))
     frac_s = np.empty((ny, nx))  # the swept loss over the cap, then what the water-filling reads
     cap = np.empty((ny, nx))
@@ -783,14 +807,14 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         gained, lost = 0.0, 0.0
         for y in range(ny):
             row = paint[p, y0 + y, x0 : x0 + nx]
-            gain_row = gain[pad_y + y, pad_x : pad_x + nx]
-            loss_row = loss[pad_y + y, pad_x : pad_x + nx]
+            change_row = change[pad_y + y, pad_x : pad_x + nx]
             frac_row = frac[pad_y + y, pad_x : pad_x + nx]
             share_row, mobile_row, new_row = share[y], mobile[y], new_mobile[p, y]
             for x in range(nx):
                 m = row[x] * share_row[x]
                 mobile_row[x] = m
                 c = new_row[x] - m
+                change_row[x] = c
                 gain_row[x] = max(c, 0.0)
                 loss_row[x] = max(-c, 0.0)
                 frac_row[x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
@@ -799,7 +823,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         if gained == 0.0 and lost == 0.0:
             continue
         path = (pad_x, pad_y, dx, dy, samples)
-        swept = _swept_fields((gain, loss, frac), path, gain_s, frac_s, cap)
+        swept = _swept_fields((change, frac), path, gain_s, frac_s, cap)
         if abs(swept - gained) > 1e-9 * (gained + lost):
             continue  # the box was cut short behind the change (the canvas's edge)
         n = 0  # the texels that lose paint, gathered for the water-filling's passes
