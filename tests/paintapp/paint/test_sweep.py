@@ -4,11 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from common.errors import InputError
-from paintapp.paint.columns_kernels import _water_fill, sweep_change
+from paintapp.paint.columns_kernels import sweep_change
 from paintapp.paint.paint_scene import parse_paint_scene
 
 
@@ -113,34 +111,6 @@ def test_sweep_is_a_scene_switch_and_a_bad_value_names_the_key():
     with pytest.raises(InputError) as err:
         parse_paint_scene({"paint": {"sweep": 1}}, "s", "my_scene.toml")
     assert err.value.key == "paint.sweep" and "my_scene.toml" in str(err.value)
-
-
-def _taken(frac: np.ndarray, mobile: np.ndarray, scale: float) -> float:
-    return float(np.sum(np.minimum(scale * frac, 1.0) * mobile))
-
-
-@settings(max_examples=60, deadline=None)
-@given(
-    seed=st.integers(0, 2**31 - 1),
-    share=st.floats(0.05, 0.999),
-    start=st.floats(0.2, 5.0),
-)
-def test_the_water_filling_finds_the_scale_that_takes_exactly_the_loss(seed, share, start):
-    # fractions in [0, 1] over texels holding paint (some none); the loss a share of all they
-    # hold, so a scale exists; Newton's steps from below or above the root must land on it
-    rng = np.random.default_rng(seed)
-    frac = rng.uniform(0.0, 1.0, (23, 37)) * (rng.random((23, 37)) > 0.2)
-    mobile = rng.uniform(0.0, 1e-5, (23, 37)) * (rng.random((23, 37)) > 0.1)
-    held = float(np.sum(mobile[frac > 0.0]))
-    lost = share * held
-    scale, taken = _water_fill(frac.copy(), mobile.copy(), start, lost)  # it reorders them
-    assert scale > 0.0
-    assert abs(_taken(frac, mobile, scale) - lost) <= 1e-11 * lost
-    assert taken == pytest.approx(_taken(frac, mobile, scale), rel=1e-12)
-    # the root is unique where it is reached: a hair less takes less, a hair more takes more
-    # (unless every texel is emptied already)
-    assert _taken(frac, mobile, scale * (1 - 1e-6)) < lost
-    assert scale * frac[mobile > 0].max() >= 1.0 or _taken(frac, mobile, scale * (1 + 1e-6)) > lost
 
 
 def test_a_sweep_that_empties_texels_still_keeps_the_loss_and_takes_no_more_than_held():
