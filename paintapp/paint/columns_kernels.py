@@ -593,11 +593,13 @@ def _path_samples(dx, dy, samples):
 
 @inline_kernel
 def _gain_loss(w, a0, a1, b0, b1):
-    """The bilinear read, with the weights ``w`` (4,), of the gains ``max(c, 0)`` and of the
-    losses ``max(-c, 0)`` of the changes ``c`` at four texels (``a0``, ``a1`` on the first row,
-    ``b0``, ``b1`` on the next)."""
-    g = w[0] * max(a0, 0.0) + w[1] * max(a1, 0.0) + w[2] * max(b0, 0.0) + w[3] * max(b1, 0.0)
-    lo = w[0] * max(-a0, 0.0) + w[1] * max(-a1, 0.0) + w[2] * max(-b0, 0.0) + w[3] * max(-b1, 0.0)
+    """The bilinear read, with the weights ``w`` (four scalars: scalars, not an array, so that
+    the loop calling it stays vectorised), of the gains ``max(c, 0)`` and of the losses
+    ``max(-c, 0)`` of the changes ``c`` at four texels (``a0``, ``a1`` on the first row, ``b0``,
+    ``b1`` on the next)."""
+    w0, w1, w2, w3 = w
+    g = w0 * max(a0, 0.0) + w1 * max(a1, 0.0) + w2 * max(b0, 0.0) + w3 * max(b1, 0.0)
+    lo = w0 * max(-a0, 0.0) + w1 * max(-a1, 0.0) + w2 * max(-b0, 0.0) + w3 * max(-b1, 0.0)
     return g, lo
 
 
@@ -623,8 +625,8 @@ def _swept_fields(fields, path, gain_s, frac_s, cap):
             ya = np.uint64(y + pad_y + offs_j[k])
             yb = ya + np.uint64(1)
             ca, cb, fa, fb = change[ya], change[yb], frac[ya], frac[yb]
-            wk = w[k]
-            w00, w10, w01, w11 = wk[0], wk[1], wk[2], wk[3]
+            w00, w10, w01, w11 = w[k, 0], w[k, 1], w[k, 2], w[k, 3]
+            wk = (w00, w10, w01, w11)
             xo = pad_x + offs_i[k]
             if k == 0:
                 for x in range(nx):
