@@ -102,9 +102,9 @@ def water_fill(frac_s, mobile, scale, lost):
 
     ``taken(s) = sum min(s f, 1) m`` is piecewise linear, increasing and concave in ``s``, so
     Newton's method (the slope: the ``f m`` of the texels not yet emptied) reaches the root from
-    below monotonically and is exact once the set of emptied texels is right: two to four passes
-    on a painting window's texels where the fixed-point step ``s *= lost / taken`` took three to
-    31, its cap, at which it had stopped short of the root (and the sweep then kept the step's
+    below monotonically and is exact once the set of emptied texels is right: two to eight passes
+    on a painting window's texels (five to eight where most of them are emptied at the root)
+    where the fixed-point step ``s *= lost / taken`` took three to 31, its cap, at which it had stopped short of the root (and the sweep then kept the step's
     unswept change). A step that would not leave ``s > 0`` (from above the root with most of the
     paint in emptied texels), or no slope, falls back to that fixed-point step. Once a pass
     has taken less than ``lost``, every later scale is larger (a step from below the root stays
