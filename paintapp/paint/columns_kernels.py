@@ -663,8 +663,8 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     moves whole, so the total is kept when the box reaches ``|d|`` behind the change). The losses
     ``l = max(m - new, 0)`` go the same way, each texel's take capped at ``c = f_max m`` (its own
     paint times the largest *fraction* ``f = l / m`` lost along its path) and scaled, water-filling
-    against the caps (:mod:`paintapp.paint.water_filling`), so the total loss is kept: a texel never loses more than it holds, nor a
-    larger share than a texel on its path lost. (The mean fraction times the texel's paint is not
+    against the caps (:mod:`paintapp.paint.water_filling`), so the total loss is kept: a texel
+    never loses more than it holds, nor a larger share than a texel on its path lost. (The mean fraction times the texel's paint is not
     linear in the change and left a step's teeth; uncapped amounts emptied texels, leaving holes.)
     A pigment whose swept totals miss by more than round-off (the box cut short at the canvas's
     edge), or whose caps cannot take its loss, keeps its unswept change. ``touched`` and ``total``
@@ -729,7 +729,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         # The first pass of the water-filling (scale 1) also finds the largest ratio (when the
         # scaled ratios stay within 1, no texel reaches its cap and the scale is exact) and all
         # that the caps hold (when that is less than the loss, no scale takes it).
-        taken, top, room = capacity(ratio_n[:n], cap_n[:n])
+        taken, _, top, room = capacity(ratio_n[:n], cap_n[:n])
         if room < lost * (1.0 - 1e-9):
             continue  # the caps meet too little paint: keep the unswept change
         scale = 1.0

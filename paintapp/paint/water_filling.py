@@ -17,11 +17,14 @@ from solver import kernel
 
 @kernel
 def _taken_slope(frac, mobile, scale):
-    """``(sum min(scale f, 1) m, sum of f m where scale f < 1, largest f where m > 0)`` over
-    the flat arrays ``frac`` and ``mobile``, in four interleaved partial sums each."""
+    """``(sum min(scale f, 1) m, sum of f m where scale f < 1, largest f where m > 0, sum of m
+    where f > 0)`` over the flat arrays ``frac`` and ``mobile``, in four interleaved partial sums
+    each: what the fractions take at ``scale``, the slope there, and the most they can take at
+    any scale (every texel emptied)."""
     size = frac.size
     t0 = t1 = t2 = t3 = 0.0
     d0 = d1 = d2 = d3 = 0.0
+    r0 = r1 = r2 = r3 = 0.0
     top = 0.0
     end = size - size % 4
     for n in range(0, end, 4):
@@ -35,33 +38,6 @@ def _taken_slope(frac, mobile, scale):
         d1 += f1 * m1 if scale * f1 < 1.0 else 0.0
         d2 += f2 * m2 if scale * f2 < 1.0 else 0.0
         d3 += f3 * m3 if scale * f3 < 1.0 else 0.0
-        top = max(top, max(f0 if m0 > 0.0 else 0.0, f1 if m1 > 0.0 else 0.0))
-        top = max(top, max(f2 if m2 > 0.0 else 0.0, f3 if m3 > 0.0 else 0.0))
-    for n in range(end, size):
-        t0 += min(scale * frac[n], 1.0) * mobile[n]
-        d0 += frac[n] * mobile[n] if scale * frac[n] < 1.0 else 0.0
-        top = max(top, frac[n] if mobile[n] > 0.0 else 0.0)
-    return (t0 + t1) + (t2 + t3), (d0 + d1) + (d2 + d3), top
-
-
-@kernel
-def capacity(frac, mobile):
-    """``(taken at scale 1, largest f where m > 0, sum of m where f > 0)`` over the flat arrays
-    ``frac`` and ``mobile``, in one pass of four interleaved partial sums each: what
-    :func:`_taken_slope` gives at scale 1 (the same bits), and the most that the fractions can
-    take at any scale (every texel emptied)."""
-    size = frac.size
-    t0 = t1 = t2 = t3 = 0.0
-    r0 = r1 = r2 = r3 = 0.0
-    top = 0.0
-    end = size - size % 4
-    for n in range(0, end, 4):
-        f0, f1, f2, f3 = frac[n], frac[n + 1], frac[n + 2], frac[n + 3]
-        m0, m1, m2, m3 = mobile[n], mobile[n + 1], mobile[n + 2], mobile[n + 3]
-        t0 += min(f0, 1.0) * m0
-        t1 += min(f1, 1.0) * m1
-        t2 += min(f2, 1.0) * m2
-        t3 += min(f3, 1.0) * m3
         r0 += m0 if f0 > 0.0 else 0.0
         r1 += m1 if f1 > 0.0 else 0.0
         r2 += m2 if f2 > 0.0 else 0.0
@@ -69,10 +45,19 @@ def capacity(frac, mobile):
         top = max(top, max(f0 if m0 > 0.0 else 0.0, f1 if m1 > 0.0 else 0.0))
         top = max(top, max(f2 if m2 > 0.0 else 0.0, f3 if m3 > 0.0 else 0.0))
     for n in range(end, size):
-        t0 += min(frac[n], 1.0) * mobile[n]
+        t0 += min(scale * frac[n], 1.0) * mobile[n]
+        d0 += frac[n] * mobile[n] if scale * frac[n] < 1.0 else 0.0
         r0 += mobile[n] if frac[n] > 0.0 else 0.0
         top = max(top, frac[n] if mobile[n] > 0.0 else 0.0)
-    return (t0 + t1) + (t2 + t3), top, (r0 + r1) + (r2 + r3)
+    taken, slope, room = (t0 + t1) + (t2 + t3), (d0 + d1) + (d2 + d3), (r0 + r1) + (r2 + r3)
+    return taken, slope, top, room
+
+
+@kernel
+def capacity(frac, mobile):
+    """``(taken, slope, largest f, room)`` at scale 1 (:func:`_taken_slope`): the sweep's
+    first pass."""
+    return _taken_slope(frac, mobile, 1.0)
 
 
 @kernel
@@ -104,12 +89,13 @@ def water_fill(frac_s, mobile, scale, lost):
     Newton's method (the slope: the ``f m`` of the texels not yet emptied) reaches the root from
     below monotonically and is exact once the set of emptied texels is right: two to eight passes
     on a painting window's texels (five to eight where most of them are emptied at the root)
-    where the fixed-point step ``s *= lost / taken`` took three to 31, its cap, at which it had stopped short of the root (and the sweep then kept the step's
-    unswept change). A step that would not leave ``s > 0`` (from above the root with most of the
-    paint in emptied texels), or no slope, falls back to that fixed-point step. Once a pass
-    has taken less than ``lost``, every later scale is larger (a step from below the root stays
-    below it), so a texel that a later pass finds emptied stays emptied: that pass moves it out
-    of the arrays and keeps only its sum (:func:`_kept_slope`), and the passes grow shorter."""
+    where the fixed-point step ``s *= lost / taken`` took three to 31, its cap, at which it had
+    stopped short of the root (and the sweep then kept the step's unswept change). A step that
+    would not leave ``s > 0`` (from above the root with most of the paint in emptied texels), or
+    no slope, falls back to that fixed-point step. Once a pass has taken less than ``lost``,
+    every later scale is larger (a step from below the root stays below it), so a texel that a
+    later pass finds emptied stays emptied: that pass moves it out of the arrays and keeps only
+    its sum (:func:`_kept_slope`), and the passes grow shorter."""
     frac, held = frac_s.reshape(-1), mobile.reshape(-1)
     size, emptied, below = frac.size, 0.0, False
     taken = 0.0
@@ -119,7 +105,7 @@ def water_fill(frac_s, mobile, scale, lost):
             emptied += out
             taken = scale * slope + emptied
         else:
-            taken, slope, _ = _taken_slope(frac[:size], held[:size], scale)
+            taken, slope, _, _ = _taken_slope(frac[:size], held[:size], scale)
             taken += emptied
         if taken <= 0.0 or abs(taken - lost) <= 1e-12 * lost:
             break
