@@ -60,7 +60,9 @@ def _pass(q, base, frac, out):
         lo_in, hi_in = 0 <= s < n, 0 <= s + 1 < n
         if frac == 0.0:
             if lo_in:
-                o[:] = q[s]
+                row = q[s]
+                for c in range(m):  # element by element: a slice copy compiles a shape check
+                    o[c] = row[c]
             else:
                 o[:] = 0.0
             continue

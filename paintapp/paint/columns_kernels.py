@@ -173,10 +173,12 @@ def texels_to_columns(box, texture, textured, active, out_mobile, out_gain):
         for p in range(n_p):
             if active[p]:
                 _runs_into(rows[p, j], fx, tx, column)
-                out_mobile[p, :, j] = column[:ni]
+                for i in range(ni):  # not a slice copy, which compiles a shape check
+                    out_mobile[p, i, j] = column[i]
         if textured:
             _runs_into(rows_g[j], fx, tx, column)
-            out_gain[:, j] = column[:ni]
+            for i in range(ni):
+                out_gain[i, j] = column[i]
 
 
 @inline_kernel
@@ -413,6 +415,43 @@ def fill_thin_holes(new_mobile, touched, total, floor):
 
 
 @kernel
+def _ascending(keys):
+    """The indices that order ``keys`` (1D) ascending, equal keys by index (a stable order), by
+    heapsort: numba's ``np.argsort`` compiles its quicksort's generic parts (about 1 s on a
+    first run) for this one use."""
+    n = keys.size
+    order = np.empty(n, np.int64)
+    for i in range(n):
+        order[i] = i
+    for start in range(n // 2 - 1, -1, -1):
+        _sift_down(keys, order, start, n)
+    for end in range(n - 1, 0, -1):
+        order[0], order[end] = order[end], order[0]
+        _sift_down(keys, order, 0, end)
+    return order
+
+
+@inline_kernel
+def _before(keys, a, b):
+    """Whether index ``a`` comes before ``b``: its key is less, or equal with a lower index."""
+    return keys[a] < keys[b] or (keys[a] == keys[b] and a < b)
+
+
+@inline_kernel
+def _sift_down(keys, order, root, end):
+    """Heapsort's step: the heap over ``order[:end]`` (each parent after its children in
+    :func:`_before`'s order) restored below ``root``."""
+    while 2 * root + 1 < end:
+        child = 2 * root + 1
+        if child + 1 < end and _before(keys, order[child], order[child + 1]):
+            child += 1
+        if not _before(keys, order[root], order[child]):
+            return
+        order[root], order[child] = order[child], order[root]
+        root = child
+
+
+@kernel
 def gather_fringe_films(new_mobile, touched, total, floor):
     """Take the thinnest films off the paint's edge, in place: a touched texel whose paint
     ``total`` (dry + wet, all pigments) is above 0 but under ``floor``, with an unpainted texel
@@ -425,21 +464,21 @@ def gather_fringe_films(new_mobile, touched, total, floor):
     already unpainted and opens no new hole. Conserved, never negative. Returns the moves."""
     n_p, ny, nx = new_mobile.shape
     gave = 0
+    where = np.empty(ny * nx, np.int64)
+    thin = np.empty(ny * nx)
     while True:
-        ys = []
-        xs = []
-        thin = []
+        count = 0
         for y in range(ny):
             for x in range(nx):
                 if touched[y, x] and 0.0 < total[y, x] < floor:
-                    ys.append(y)
-                    xs.append(x)
-                    thin.append(total[y, x])
-        if len(thin) == 0:
+                    where[count] = y * nx + x
+                    thin[count] = total[y, x]
+                    count += 1
+        if count == 0:
             return gave
         moves = 0
-        for n in np.argsort(np.array(thin)):
-            y, x = ys[n], xs[n]
+        for n in _ascending(thin[:count]):
+            y, x = where[n] // nx, where[n] % nx
             t = total[y, x]
             if not 0.0 < t < floor:
                 continue

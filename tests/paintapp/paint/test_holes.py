@@ -13,6 +13,7 @@ from paintapp.canvas.lattice import count_holes
 from paintapp.canvas.model import FILM_FLOOR_M, Canvas
 from paintapp.paint.columns_kernels import (
     HOLE_FILL,
+    _ascending,
     close_pinholes,
     fill_thin_holes,
     gather_fringe_films,
@@ -143,6 +144,15 @@ def test_a_fringe_film_goes_to_its_thickest_neighbour_and_an_inner_one_stays():
     np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)
     np.testing.assert_array_equal(out[:, 2, 3], [3e-10, 3e-10])
     assert touched[1, 5]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(0.0, 1e-9, allow_subnormal=True), max_size=300))
+def test_the_fringe_films_are_ordered_thinnest_first(keys):
+    """The heapsort that orders the thin films: numpy's stable order (films of equal thickness
+    in the order they were listed)."""
+    k = np.array(keys, dtype=np.float64)
+    np.testing.assert_array_equal(_ascending(k), np.argsort(k, kind="stable"))
 
 
 @settings(max_examples=60, deadline=None)
