@@ -9,6 +9,10 @@ from common.errors import InputError
 from paintapp.paint.columns_kernels import sweep_change
 from paintapp.paint.paint_scene import parse_paint_scene
 
+#: Relative round-off of a value of the sweep's float32 fields (float32's epsilon, 1.2e-7, and
+#: a little): per texel the swept values agree with float64 arithmetic to this.
+F32 = 2e-7
+
 
 def every(paint: np.ndarray) -> np.ndarray:
     """Every pigment of ``paint`` (P, H, W) marked as changing."""
@@ -35,14 +39,15 @@ def test_gains_are_laid_as_their_mean_along_the_path_and_totals_kept():
     total = np.zeros((30, 50))
     assert sweep_change(paint, wet, 5, 3, out, touched, total, 4.0, 0.0, 1.0, every(paint))
     change, swept = new - mobile, out - mobile
-    np.testing.assert_allclose(swept.sum(axis=(1, 2)), change.sum(axis=(1, 2)), rtol=1e-9)
+    np.testing.assert_allclose(swept.sum(axis=(1, 2)), change.sum(axis=(1, 2)), rtol=1e-12)
     assert out.min() >= 0.0
     # samples at 0.5, 1.5, 2.5, 3.5 texels ahead: each the mean of two neighbours
     gain = np.maximum(change, 0.0)
     padded = np.pad(gain, ((0, 0), (0, 0), (0, 6)))
     expected = sum(padded[:, :, k : k + 50] + padded[:, :, k + 1 : k + 51] for k in range(4)) / 8
-    # from texel 36 on no loss reaches (the losses at 30-35 move back to 26-35)
-    np.testing.assert_allclose(swept[:, :, 36:], expected[:, :, 36:], rtol=1e-12, atol=1e-20)
+    # from texel 36 on no loss reaches (the losses at 30-35 move back to 26-35); the moved
+    # fields are float32 (the canvas's own precision), their totals kept exactly
+    np.testing.assert_allclose(swept[:, :, 36:], expected[:, :, 36:], rtol=F32, atol=1e-20)
     assert expected[:, :, 36:].max() > 0.0 and not np.allclose(swept, change)
     assert touched[10:20, 26:40].all() and not touched[:5].any()
     np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)  # all wet: no dry part
@@ -69,14 +74,14 @@ def test_losses_are_laid_as_their_mean_along_the_path_within_each_texel_s_cap():
     taken = mobile - out
     np.testing.assert_allclose(taken.sum(), loss.sum(), rtol=1e-12)
     cap = 0.5 * mobile  # half: the share the patch lost, the largest on any path
-    assert (taken <= cap * (1.0 + 1e-12)).all()
-    at_cap = np.isclose(taken, cap, rtol=1e-9) & (mean > 0.0)
+    assert (taken <= cap * (1.0 + F32)).all()  # the largest share read in float32
+    at_cap = np.isclose(taken, cap, rtol=F32) & (mean > 0.0)
     free = (mean > 0.0) & ~at_cap
     assert at_cap.any() and free.sum() > 20
     # below their caps the texels take the mean loss times one common scale (the water-filling's,
     # which makes up what the capped ones could not give), whatever their own paint
     ratio = taken[free] / mean[free]
-    assert np.ptp(ratio) < 1e-9 * ratio.mean() and ratio.mean() >= 1.0
+    assert np.ptp(ratio) < 2.0 * F32 * ratio.mean() and ratio.mean() >= 1.0
     assert np.ptp(mobile[free]) > 1e-5  # thin and thick stripes among them
 
 
