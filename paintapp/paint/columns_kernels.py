@@ -718,9 +718,10 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     precision; each texel's swept change to about 1e-7 of it), their totals float64: the swept
     gains are scaled to the step's gains, so both totals are kept to float64 round-off. A
     pigment whose swept gains miss by more than :data:`SWEPT_ROUND_OFF` of them (the box cut
-    short at the canvas's edge), or whose caps cannot take its loss, keeps its unswept change. ``touched`` and ``total``
-    (as :func:`spread_to_texels` fills them) are updated; a pigment ``active`` (P,) does not mark
-    is left as it is (it has no change to lay). Returns whether anything was swept."""
+    short at the canvas's edge), or whose caps cannot take its loss, keeps its unswept change.
+    ``touched`` and ``total`` (as :func:`spread_to_texels` fills them) are updated; a pigment
+    ``active`` (P,) does not mark is left as it is (it has no change to lay). Returns whether
+    anything was swept."""
     n_p, ny, nx = new_mobile.shape
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:
@@ -771,7 +772,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         for y in range(ny):
             c_row, l_row, m_row = cap[y], loss_s[y], mobile[y]
             for x in range(nx):
-                c = c_row[x] * m_row[x]
+                c = min(c_row[x], 1.0) * m_row[x]  # a share read in float32 may pass 1
                 if l_row[x] > 0.0 and c > 0.0:
                     ratio_n[n], cap_n[n] = l_row[x] / c, c  # the swept loss over the cap
                     n += 1
@@ -795,7 +796,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
             t_row, new_row = touched[y], new_mobile[p, y]
             for x in range(nx):
                 m = m_row[x]
-                take = min(scale * l_row[x], c_row[x] * m)  # min(scale ratio, 1) cap
+                take = min(scale * l_row[x], min(c_row[x], 1.0) * m)  # min(scale ratio, 1) cap
                 new = max(m - take, 0.0) + spread * g_row[x]
                 if new != m:
                     t_row[x] = True

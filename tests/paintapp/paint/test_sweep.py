@@ -147,12 +147,32 @@ def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
     out = new.copy()
     assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 5.0,
                         0.0, 1.0, every(paint))  # fmt: skip
-    np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-9)
+    np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-12)
     assert out.min() >= 0.0
     # the loss laid back along the path: the texels behind the patch give paint now...
     assert np.all(out[:, 5:25, 6:10] < mobile[:, 5:25, 6:10])
     # ...and the patch's far end keeps some (its own loss moved back), none goes below zero
     assert np.all(out[:, 5:25, 36:40] > 0.0)
+
+
+@pytest.mark.parametrize("travel", [(3.3, 0.1), (5.3, 0.7), (4.1, -1.3)])
+def test_a_share_lost_read_above_one_takes_no_more_than_a_texel_holds(travel):
+    # An emptied patch (a share lost of 1) read in float32 along a path whose bilinear weights
+    # are not exact there: a share may come out a hair above 1 (it does at (3.3, 0.1)), and a
+    # texel's cap is then its whole paint, not more, so the loss taken is the loss, to float64
+    # round-off (unclamped, 3e-8 of it went missing at (3.3, 0.1)).
+    rng = np.random.default_rng(1)
+    paint = rng.uniform(2e-6, 2e-5, (1, 40, 60)).astype(np.float32)
+    wet = np.ones((40, 60), np.float32)
+    mobile = paint[:, 3:33, 5:55].astype(np.float64)
+    new = mobile.copy()
+    new[:, 5:25, 10:40] = 0.0
+    new[:, 5:25, 40:44] += 1e-4
+    out = new.copy()
+    assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)),
+                        *travel, 1.0, every(paint))  # fmt: skip
+    np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-12)
+    assert out.min() >= 0.0
 
 
 def test_a_loss_the_caps_cannot_hold_keeps_its_unswept_change():
