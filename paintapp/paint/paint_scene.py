@@ -27,7 +27,7 @@ A scene file::
                                     # (false: the columns' transported change is spread to them)
     sweep = true                    # a step's change is laid along the path the tip swept
     transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
-                                    # (a half cell crisper at the stroke's edges, a faint lattice)
+                                    # (half a cell less reach, a faint lattice)
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
@@ -182,7 +182,7 @@ class PaintScene:
             False prints one tooth per step along a fast stroke.
         transfer: the kernel that trades paint between the grid's columns and the texels
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
-            or ``"tent"`` (reaches half a cell less beyond a stroke, but its slope jumps at
+            or ``"tent"`` (reaches half a cell less beyond a column, but its slope jumps at
             column centres and prints a faint lattice where thin films turn colour).
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
