@@ -133,10 +133,9 @@ def test_a_sweep_that_empties_texels_still_keeps_the_loss_and_takes_no_more_than
     np.testing.assert_allclose(out.sum(axis=(1, 2)), new.sum(axis=(1, 2)), rtol=1e-9)
 
 
-def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
-    # The brush lifts all the wet paint of a wide patch of uneven paint: nearly all of the loss
-    # sits in texels the swept fractions empty, where the water-filling's scale converges
-    # slowly by fixed-point steps (it used to stop at its cap and keep the unswept change).
+def emptied_patch():
+    """A (1, 40, 60) wet canvas of uneven paint, its box at (5, 3) of (30, 50) texels, and new
+    mobile paint there: a wide patch whose wet paint the brush took whole, heaped ahead."""
     rng = np.random.default_rng(1)
     paint = rng.uniform(2e-6, 2e-5, (1, 40, 60)).astype(np.float32)
     wet = np.ones((40, 60), np.float32)
@@ -144,6 +143,14 @@ def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
     new = mobile.copy()
     new[:, 5:25, 10:40] = 0.0
     new[:, 5:25, 40:44] += 1e-4
+    return paint, wet, mobile, new
+
+
+def test_a_patch_taken_up_entirely_from_uneven_paint_is_still_swept():
+    # The brush lifts all the wet paint of a wide patch of uneven paint: nearly all of the loss
+    # sits in texels the swept fractions empty, where the water-filling's scale converges
+    # slowly by fixed-point steps (it used to stop at its cap and keep the unswept change).
+    paint, wet, mobile, new = emptied_patch()
     out = new.copy()
     assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)), 5.0,
                         0.0, 1.0, every(paint))  # fmt: skip
@@ -161,13 +168,7 @@ def test_a_share_lost_read_above_one_takes_no_more_than_a_texel_holds(travel):
     # are not exact there: a share may come out a hair above 1 (it does at (3.3, 0.1)), and a
     # texel's cap is then its whole paint, not more, so the loss taken is the loss, to float64
     # round-off (unclamped, 3e-8 of it went missing at (3.3, 0.1)).
-    rng = np.random.default_rng(1)
-    paint = rng.uniform(2e-6, 2e-5, (1, 40, 60)).astype(np.float32)
-    wet = np.ones((40, 60), np.float32)
-    mobile = paint[:, 3:33, 5:55].astype(np.float64)
-    new = mobile.copy()
-    new[:, 5:25, 10:40] = 0.0
-    new[:, 5:25, 40:44] += 1e-4
+    paint, wet, _, new = emptied_patch()
     out = new.copy()
     assert sweep_change(paint, wet, 5, 3, out, np.zeros((30, 50), bool), np.zeros((30, 50)),
                         *travel, 1.0, every(paint))  # fmt: skip
