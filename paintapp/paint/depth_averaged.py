@@ -41,6 +41,7 @@ from paintapp.paint.paint_model import (
     unwrap_angle,
 )
 from paintapp.paint.paint_scene import PaintScene
+from paintapp.paint.still import keep_still
 from solver import DomainBoundary, Fluid, Grid, Probe, Side, Simulation, transport
 
 PROBE = "brush"
@@ -142,6 +143,7 @@ class PaintGridDepthAveraged(PaintModel):
             return PaintStep(step_ms=clock.total_ms)
         delta = np.zeros_like(all_columns)
         delta[used] = (q - before)[..., 0]
+        delta = keep_still(all_columns, delta, self.scene.still_rate_per_s * dt_s)
         self.window.write_back(
             self.canvas,
             delta,

@@ -14,7 +14,8 @@ needs no scaling of real paint viscosities. The brush force is the stress integr
 Each step: fill the cells from the canvas's wet paint (:func:`paintapp.paint.cell_kernels.fill_columns`),
 set the viscosity field, drive the probe to the tip pose and take one solver step, trade paint with
 the brush (:mod:`paintapp.paint.exchange`), transport the paint conservatively with the new
-velocity (:func:`solver.advection.scalars.transport`), and write the change back to the canvas.
+velocity (:func:`solver.advection.scalars.transport`), and write the change back to the canvas
+(less the creep of the paint far from the brush, :mod:`paintapp.paint.still`).
 The floor cuts off the tip below the canvas (bristles pressed flat): the footprint grows with depth.
 """
 
@@ -40,6 +41,7 @@ from paintapp.paint.far_field import band_change, padded_transport, side_faces
 from paintapp.paint.nearest_room import tip_distance
 from paintapp.paint.paint_model import ForceNeeds, PaintModel, PaintStep
 from paintapp.paint.paint_scene import PaintScene
+from paintapp.paint.still import keep_still
 from paintapp.paint.texel_velocity import column_face_velocity
 from paintapp.paint.tooth import bristles_only
 from paintapp.paint.trail import lay_trail, paint_faces, vacated_share
@@ -220,6 +222,7 @@ class PaintGrid3D(PaintModel):
         delta = np.zeros_like(outer)
         delta[used] = band
         delta[used, b : b + nx, b : b + ny] += (q - before).sum(axis=3) * h
+        delta = keep_still(outer, delta, self.scene.still_rate_per_s * dt_s)
         self.outer.write_back(
             self.canvas, delta, texture, gathered=outer, sweep_texels=self.sweep_texels()
         )

@@ -28,6 +28,8 @@ A scene file::
     sweep = true                    # a step's change is laid along the path the tip swept
     transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
                                     # (half a cell less reach, a faint lattice)
+    still_rate_per_s = 0.3          # a column changing by less than this share of its paint a
+                                    # second holds still (the creep far from the brush); 0: none
 
     [brush]
     pickup_fraction = 0.3           # share of the wet paint the bristles meet that they soak up
@@ -184,6 +186,10 @@ class PaintScene:
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
             or ``"tent"`` (reaches half a cell less beyond a column, but its slope jumps at
             column centres and prints a faint lattice where thin films turn colour).
+        still_rate_per_s: a fluid model's column whose every pigment changes in a step by less
+            than this share of its wet paint per second (times the step) holds still, its change
+            given to the columns the brush moves (:mod:`paintapp.paint.still`); 0 writes every
+            change, however slow.
         pickup_fraction: share (0..1) of the wet paint met by the bristles that they soak up per
             step (limited by the brush's free room); the rest is pushed aside.
         push: where pushed paint goes: ``"distance"`` (the free room nearest the tip's surface,
@@ -218,6 +224,7 @@ class PaintScene:
     texel_flow: bool = False
     sweep: bool = True
     transfer: TransferKernel = "bspline"
+    still_rate_per_s: float = 0.3
     pickup_fraction: float = 0.3
     push: PushFill = "distance"
     deposit_length_m: float = 0.04
@@ -324,6 +331,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         texel_flow=paint.boolean("texel_flow", False),
         sweep=paint.boolean("sweep", True),
         transfer=_choice(paint, "transfer", "bspline", TRANSFER_KERNELS),
+        still_rate_per_s=paint.number("still_rate_per_s", 0.3, minimum=0.0, maximum=10.0),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         push=_choice(brush, "push", "distance", PUSH_FILLS),
         deposit_length_m=brush.number("deposit_length_m", 0.04, minimum=1e-3, maximum=10.0),
