@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from paintapp.session.comb import (
+    across_width,
     main,
     period_depths,
     period_scan,
@@ -109,6 +110,32 @@ def test_the_demo_strokes_split_at_their_markers(tmp_path, capsys):
 
     paths = stroke_paths(read_strokes(asset_path("strokes", "demo.jsonl")))
     assert [p.label for p in paths][-1] == "clean probe dragged through red"
+    assert [p.brush for p in paths] == ["round_large"] * 2 + ["flat_wide"] * 2 + [
+        "round_small",
+        "square_probe",
+    ]
     assert len(paths) == 6 and all(len(p.points_m) > 50 for p in paths)
     assert main([str(tmp_path)]) == 2  # no demo folder: a message, not a traceback
     assert "expected a paintapp demo folder" in capsys.readouterr().err
+
+
+def test_teeth_on_a_stroke_s_side_are_read_across_its_width():
+    """A stroke 40 texels wide, smooth along its middle, with one tooth per step on a ridge 16
+    texels to its left (the sides a fast square tip leaves): the centre lines read nothing over
+    their floor; across the width, the ridge's line does."""
+    path = straight_path(5.0)
+    yy, xx = np.mgrid[0:100, 0:260] + 0.5
+    rng = np.random.default_rng(2)
+    band = np.abs(yy - 50.5) < 20.0
+    ridge = np.exp(-0.5 * ((yy - 66.5) / 2.0) ** 2)
+    teeth = 1.0 + 0.3 * ridge * np.cos(2.0 * np.pi * (xx - 20.0) / 5.0)
+    height = band * (1.0 + 0.02 * rng.standard_normal(xx.shape)) * teeth * 1e-4
+    depth, floor = tooth_depth(height, TEXEL, path)
+    assert depth < 2.0 * floor
+    side = across_width(height, TEXEL, path, 40.0)
+    assert side is not None
+    assert side.offset_texels == pytest.approx(15.0, abs=2.5)
+    assert side.depth > 0.3 and side.depth > 5.0 * side.floor
+    smooth = across_width(band * (1.0 + 0.02 * rng.standard_normal(xx.shape)), TEXEL, path, 40.0)
+    assert smooth is not None and smooth.depth < 2.0 * smooth.floor
+    assert across_width(np.zeros_like(height), TEXEL, path, 40.0) is None

@@ -82,7 +82,7 @@ def test_demo_paints_mixes_and_records_forces(tmp_path):
     red = conc[canvas.pigment_index("cadmium_red")] > 0.5
     assert canvas.height_m[red].max() > 5e-4  # impasto: over half a millimetre
     assert count_holes(canvas.height_m) == (0, 0)  # no unpainted texel inside the painting
-    # The probe's trail through the impasto carries no comb: at its step (12.6 texels) and at
+    # The probe's trail through the impasto carries a shallow comb at most: at its step (12.6 texels) and at
     # its sub-step (6.3) the height varies by 0.022 and 0.021 of itself (floors 0.009 and
     # 0.005); 0.38 at 50 texels when the grid followed the tip by whole cells.
     height = canvas.height_m.astype(np.float64)
