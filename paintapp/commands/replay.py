@@ -165,7 +165,12 @@ def print_explanation(result: ReplayResult, fidelity: str | None) -> None:
         f"cells {'x'.join(map(str, s.cells))}, pressure tol {s.solver.pressure_tolerance:g}, "
         f"viscosity tol {s.solver.viscosity_tolerance:g}, cap {s.solver.max_iterations}, "
         f"advection {s.solver.advection}, max step {s.max_step_s:.4g} s, travel per step at "
-        f"most {s.max_travel_cells:g} cells (up to {s.max_travel_substeps} sub-steps)"
+        f"most {s.max_travel_cells:g} cells (up to {s.max_travel_substeps} sub-steps), "
+        + (
+            f"paint still below {s.still_rate_per_s:g} of a column a second"
+            if s.still_rate_per_s > 0.0
+            else "every change written"
+        )
     )
     print(explain_session(result.session, header))
 

@@ -223,6 +223,7 @@ def test_replay_explain_prints_decisions_and_counts(tmp_path, capsys):
     assert code == 0
     assert "touch-down:" in out and "outputs: force only" in out
     assert "in the air, no steps" in out and "grids used" in out
+    assert "paint still below 0.3 of a column a second" in out
 
 
 def test_the_solver_table_takes_the_preconditioners_and_names_a_bad_one():

@@ -5,12 +5,15 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.ndimage import distance_transform_edt
 
 from brushes import PaintReservoir
+from common.errors import InputError
 from paintapp.canvas.model import Canvas
+from paintapp.paint.paint_scene import parse_paint_scene
 from paintapp.paint.still import keep_still
 from paintapp.session.painting import PaintingSession, paint_inventory
 from tests.paintapp.paint.test_paint_transfer import paint, small_scene
@@ -71,6 +74,14 @@ def test_a_net_loss_no_column_can_give_leaves_the_change_as_it_is():
     owned = np.array([[[1.0], [0.5], [1.0]]])
     change = np.array([[[-0.009], [-0.5], [0.0]]])  # the loser is emptied; nothing gains
     np.testing.assert_array_equal(keep_still(owned, change, 0.01), change)
+
+
+def test_a_scene_s_still_rate_is_read_and_a_bad_one_named():
+    assert parse_paint_scene({}, "x").still_rate_per_s == 0.3
+    assert parse_paint_scene({"paint": {"still_rate_per_s": 0}}, "x").still_rate_per_s == 0.0
+    for bad in (-0.1, 11.0, float("nan"), "fast"):
+        with pytest.raises(InputError, match=r"paint\.still_rate_per_s"):
+            parse_paint_scene({"paint": {"still_rate_per_s": bad}}, "x")
 
 
 def test_a_share_of_zero_keeps_every_change():
