@@ -32,6 +32,7 @@ from paintapp.canvas.model import MAX_PAINT_M, Canvas
 from paintapp.canvas.regions import Box
 from paintapp.paint import columns_kernels as kernels
 from paintapp.paint.paint_scene import TransferKernel
+from paintapp.paint.share_sweep import sweep_shares
 
 #: Samples per cell of travel that a swept change is averaged over (at most
 #: :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is smooth on
@@ -45,6 +46,15 @@ SWEEP_SPACING_TEXELS = 6.0
 #: left there come from where the tip's faces fall within a cell, which the sweep cannot undo
 #: (sweeping deepens them); from two texels per cell the sweep makes them shallower.
 SWEEP_MIN_TEXELS = 2
+#: Most texels per cell edge at which the sweep moves a step's losses as shares kept
+#: (:func:`paintapp.paint.share_sweep.sweep_shares`) rather than as amounts
+#: (:func:`paintapp.paint.columns_kernels.sweep_change`). Small cells are where a step's travel
+#: is longest in cells (the probe's sub-steps cross three of its two-texel cells), and where the
+#: amount sweep's caps printed a tooth a step beside the trough; the share sweep costs an
+#: exponential and a logarithm per texel, and a box grows as the square of the cell, so large
+#: cells, whose steps cross a cell or less and print no such teeth, keep the amount sweep
+#: (docs/performance.md, the share sweep).
+SHARE_SWEEP_MAX_TEXELS = 4
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.
@@ -250,7 +260,9 @@ class ColumnWindow:
         first, so only the texels of columns whose change survives are read and written (the
         transport's thin tails reach the whole grid). ``sweep_texels``, the tip's travel during
         the step (texels, x and y), lays the change along that path
-        (:func:`paintapp.paint.columns_kernels.sweep_change`). The texels are read and written by
+        (:func:`paintapp.paint.columns_kernels.sweep_change`, or
+        :func:`paintapp.paint.share_sweep.sweep_shares` for cells of at most
+        :data:`SHARE_SWEEP_MAX_TEXELS` texels). The texels are read and written by
         :mod:`paintapp.paint.columns_kernels`'s kernels; only the texels that changed are written
         and marked dirty."""
         r = self.on_canvas_range()
@@ -300,7 +312,8 @@ class ColumnWindow:
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
             travel = (float(sweep_texels[0]), float(sweep_texels[1]))
-            kernels.sweep_change(*block, new_mobile, touched, total, *travel, spacing, active)
+            sweep = sweep_shares if self.k <= SHARE_SWEEP_MAX_TEXELS else kernels.sweep_change
+            sweep(*block, new_mobile, touched, total, *travel, spacing, active)
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)
