@@ -95,9 +95,10 @@ def test_open_sides_bring_the_force_and_the_trail_s_shoulders_near_a_wide_grid_s
     low) and make the force buzz as the walls' distance from the tip's faces steps between
     re-centrings (rms change from one sample to the next: drag 4.4 and lift 3.9 mN with slip
     walls, 1.2 and 1.4 open, 1.4 and 1.7 on the wide grid). Beside the stroke, the paint height
-    across it beyond its ridges: rms off the wide grid's 10.4 um with slip walls, 10.8 open
-    (measured; 41 and 20 before the write-back's sweep took each texel's loss whole along the
-    path, which also settles the shoulders the slip walls' re-centring had combed)."""
+    across it beyond its ridges: rms off the wide grid's 10.5 um with slip walls, 8.2 open
+    (measured with the share sweep of these two-texel cells; 12.0 and 8.0 with the amount sweep;
+    41 and 20 before the write-back's sweep took each texel's loss whole along the path, which
+    also settles the shoulders the slip walls' re-centring had combed)."""
     slip, following, open_, wide = (sides.drag(*case) for case in sides.CASES)
     assert open_.drift < 1e-8 and following.drift < 1e-8
     for axis in (0, 2):  # drag and lift
