@@ -11,8 +11,9 @@ Which model runs is the painting scene's choice (:class:`PaintScene.fluid_model`
 
 Shared: the scene files (:mod:`.paint_scene`); following the tip, the canvas window and split steps
 (:mod:`.paint_model`); the grid's columns on the canvas and column/texel transfer (:mod:`.columns`,
-kernels :mod:`.columns_kernels`, the sweep's water-filling :mod:`.water_filling`); brush/cell paint exchange (:mod:`.exchange`, kernels
-:mod:`.cell_kernels`), pushed paint (:mod:`.nearest_room`), the bristle texture (:mod:`.bristles`),
+kernels :mod:`.columns_kernels`, the sweep's water-filling :mod:`.water_filling`, the share sweep
+:mod:`.share_sweep` and its exponents :mod:`.kept_share`); brush/cell paint exchange
+(:mod:`.exchange`, kernels :mod:`.cell_kernels`), pushed paint (:mod:`.nearest_room`), the bristle texture (:mod:`.bristles`),
 the tip's trail (:mod:`.trail`); the 3D grid's open sides (:mod:`.far_field`); the wet paint moved
 on the texels by the grid's flow (:mod:`.wet_flow`; flow on texel faces :mod:`.texel_velocity`,
 transport kernels :mod:`.wet_flow_kernels`).

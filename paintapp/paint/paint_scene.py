@@ -180,8 +180,9 @@ class PaintScene:
             texels (:mod:`paintapp.paint.wet_flow`); False transports the paint in the grid's
             columns and spreads each column's change over its texels.
         sweep: a step's change of the canvas paint is laid along the path the tip swept during
-            the step, not at its end pose alone (:func:`paintapp.paint.columns_kernels.sweep_change`);
-            False prints one tooth per step along a fast stroke.
+            the step, not at its end pose alone (:func:`paintapp.paint.columns_kernels.sweep_change`,
+            or :func:`paintapp.paint.share_sweep.sweep_shares` for small cells); False prints one
+            tooth per step along a fast stroke.
         transfer: the kernel that trades paint between the grid's columns and the texels
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
             or ``"tent"`` (reaches half a cell less beyond a column, but its slope jumps at
