@@ -65,7 +65,10 @@ def keep_exponent(log_keep, held, lost):
     it), or -1 if they hold less than ``lost`` or the passes end short of it."""
     if lost <= 0.0:
         return 0.0
-    if held.sum() < lost * (1.0 + 1e-9):  # only an infinite exponent would take it all
+    room = 0.0
+    for n in range(held.size):
+        room += held[n]
+    if room < lost * (1.0 + 1e-9):  # only an infinite exponent would take it all
         return -1.0
     scale = 1.0
     for _ in range(MAX_PASSES):
@@ -108,7 +111,8 @@ def smooth_lanes(values, weight, half, default):
             num += w * values[j]
             den += w
         out[b] = num / den if den > 0.0 else default
-    values[:] = out
+    for b in range(n):  # not a slice copy, which compiles a shape check
+        values[b] = out[b]
 
 
 @kernel
@@ -131,12 +135,15 @@ def lane_exponents(swept, mobile, lane, scratch, lost, scale):
             if log_kept[y, x] < 0.0 and mobile[y, x] > 0.0:
                 starts[b + 1] += 1
                 room[b] += mobile[y, x]
-    total = want.sum()
+    total = 0.0
+    for b in range(count):
+        total += want[b]
     if total <= 0.0:
         return False
+    cursor = np.empty(count, np.int64)
     for b in range(count):
         starts[b + 1] += starts[b]
-    cursor = starts[:count].copy()
+        cursor[b] = starts[b]
     for y in range(ny):
         for x in range(nx):
             if log_kept[y, x] < 0.0 and mobile[y, x] > 0.0:
@@ -144,11 +151,13 @@ def lane_exponents(swept, mobile, lane, scratch, lost, scale):
                 n = cursor[b]
                 log_keep[n], held[n] = log_kept[y, x], mobile[y, x]
                 cursor[b] = n + 1
-    want *= lost / total
+    for b in range(count):
+        want[b] *= lost / total
     if _fill_lanes((log_keep, held), starts, want, room, scale):
         smooth_lanes(scale, want, LANE_SMOOTHING, 1.0)
     else:
-        scale[:] = 1.0
+        for b in range(count):
+            scale[b] = 1.0
     for b in range(count):
         for n in range(starts[b], starts[b + 1]):
             log_keep[n] *= scale[b]
@@ -156,7 +165,8 @@ def lane_exponents(swept, mobile, lane, scratch, lost, scale):
     factor = keep_exponent(log_keep[:size], held[:size], lost)
     if factor < 0.0:
         return False
-    scale *= factor
+    for b in range(count):
+        scale[b] *= factor
     return True
 
 
@@ -178,7 +188,8 @@ def _fill_lanes(sorted_texels, starts, want, room, scale):
             a, e = starts[first], starts[b + 1]
             s = keep_exponent(log_keep[a:e], held[a:e], need)
             if s >= 0.0:
-                scale[first : b + 1] = s
+                for c in range(first, b + 1):
+                    scale[c] = s
                 group[groups] = first
                 groups += 1
                 first, need, have = b + 1, 0.0, 0.0
@@ -195,6 +206,7 @@ def _fill_lanes(sorted_texels, starts, want, room, scale):
             a, e = starts[first], starts[n]
             s = keep_exponent(log_keep[a:e], held[a:e], need)
             if s >= 0.0:
-                scale[first:n] = s
+                for c in range(first, n):
+                    scale[c] = s
                 first = n
     return True

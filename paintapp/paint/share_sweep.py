@@ -52,6 +52,17 @@ from solver import kernel
 
 
 @kernel
+def _per_read(dx, dy, samples):
+    """:func:`paintapp.paint.columns_kernels._path_samples`, each bilinear weight over
+    ``samples`` (a read's share of the mean)."""
+    offs_i, offs_j, w = _path_samples(dx, dy, samples)
+    for k in range(samples):
+        for c in range(4):
+            w[k, c] /= samples
+    return offs_i, offs_j, w
+
+
+@kernel
 def _swept_losses(fields, path, loss_s, log_kept):
     """The losses moved back along the path, in one pass over the rows: ``fields`` = (change,
     log_keep), each (ny, nx) float32 padded with ``pad_y`` rows and ``pad_x`` columns of zeros
@@ -63,8 +74,7 @@ def _swept_losses(fields, path, loss_s, log_kept):
     pad_x, pad_y, dx, dy, samples = path
     ny, nx = loss_s.shape
     lost = 0.0
-    offs_i, offs_j, w = _path_samples(dx, dy, samples)
-    w /= samples
+    offs_i, offs_j, w = _per_read(dx, dy, samples)
     zero = np.float32(0.0)
     for y in range(ny):
         l_out, k_out = loss_s[y], log_kept[y]
@@ -104,10 +114,9 @@ def _swept_gains(fields, path, gain_s, lanes):
     pad_x, pad_y, dx, dy, samples = path
     lane, laid, plain = lanes
     ny, nx = gain_s.shape
-    laid[:] = 0.0
-    plain[:] = 0.0
-    offs_i, offs_j, w = _path_samples(dx, dy, samples)
-    w /= samples
+    for b in range(laid.size):
+        laid[b], plain[b] = 0.0, 0.0
+    offs_i, offs_j, w = _per_read(dx, dy, samples)
     zero, one = np.float32(0.0), np.float32(1.0)
     share = np.empty(nx, np.float32)  # the share kept at the reads so far
     read = np.empty(nx, np.float32)  # the gains read, without the shares kept
@@ -217,6 +226,7 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     lane = np.empty((ny, nx), np.int64)
     count = lane_index(dx, dy, lane)
     lane_scale, laid, plain = np.empty(count), np.empty(count), np.empty(count)
+    spread = np.empty(count)  # each lane's gains' scale
     mobile = np.empty((ny, nx))
     share = np.empty((ny, nx))
     for y in range(ny):
@@ -240,14 +250,9 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
             continue  # the texels on the path hold too little: keep the unswept change
         _shares_kept(log_keep, (lane, pad_x, pad_y), lane_scale, samples)
         _swept_gains((change, log_keep), path, gain_s, (lane, laid, plain))
-        if abs(plain.sum() - gained) > SWEPT_ROUND_OFF * gained:
+        if abs(_sum(plain) - gained) > SWEPT_ROUND_OFF * gained:
             continue  # the box was cut short behind the change
-        if gained > 0.0:
-            spread = plain / np.where(laid > 0.0, laid, 1.0)  # each lane's gains kept
-            smooth_lanes(spread, plain, LANE_SMOOTHING, 1.0)
-            spread *= gained / (spread * laid).sum()  # the gains' total kept exactly
-        else:
-            spread = np.zeros(count)
+        _lane_spread(spread, (laid, plain), gained)
         _apply(new_mobile[p], (mobile, log_kept, gain_s, lane), lane_scale, spread, touched)
         done = True
     if done:  # each texel's new total, pigment by pigment along the rows
@@ -260,6 +265,23 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                 for x in range(nx):
                     t_row[x] += held[x] * (1.0 - share_row[x]) + new_row[x]
     return done
+
+
+@kernel
+def _lane_spread(spread, sums, gained):
+    """The scale of each lane's swept gains into ``spread``: ``sums`` = (laid, plain), per lane
+    the swept gains and the gains read without the shares kept; each lane's gains are scaled to
+    its plain ones, the scales averaged over :data:`LANE_SMOOTHING` lanes to either side, and
+    all of them scaled so that the gains laid are ``gained`` (0 without gains)."""
+    laid, plain = sums
+    for b in range(spread.size):
+        spread[b] = plain[b] / laid[b] if laid[b] > 0.0 else 1.0
+    smooth_lanes(spread, plain, LANE_SMOOTHING, 1.0)
+    total = 0.0
+    for b in range(spread.size):
+        total += spread[b] * laid[b]
+    for b in range(spread.size):
+        spread[b] = spread[b] * gained / total if gained > 0.0 and total > 0.0 else 0.0
 
 
 @kernel
