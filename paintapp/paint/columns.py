@@ -50,11 +50,11 @@ SWEEP_MIN_TEXELS = 2
 #: (:func:`paintapp.paint.share_sweep.sweep_shares`) rather than as amounts
 #: (:func:`paintapp.paint.columns_kernels.sweep_change`). Small cells are where a step's travel
 #: is longest in cells (the probe's sub-steps cross three of its two-texel cells), and where the
-#: amount sweep's caps printed a tooth a step beside the trough; the share sweep costs an
-#: exponential and a logarithm per texel, and a box grows as the square of the cell, so large
-#: cells, whose steps cross a cell or less and print no such teeth, keep the amount sweep
+#: amount sweep's caps printed a tooth a step beside the trough; the share sweep costs
+#: exponentials and a logarithm per texel, and a box grows as the square of the cell, so larger
+#: cells, whose steps cross fewer cells and print no such teeth, keep the amount sweep
 #: (docs/performance.md, the share sweep).
-SHARE_SWEEP_MAX_TEXELS = 4
+SHARE_SWEEP_MAX_TEXELS = 2
 
 #: Thinnest wet film (m) a changed column may be left with; thinner ones are emptied
 #: (:func:`drop_thin_films`): :data:`paintapp.canvas.model.FILM_FLOOR_M`, 0.1 um.

@@ -228,7 +228,6 @@ def test_write_back_skips_unchanged_pigments_with_the_same_bits(monkeypatch, tex
     """A pigment whose columns do not change is left out of the texel passes; the canvas ends
     the same, bit for bit, as when every pigment goes through them (its texels keep their
     paint; the wetness still counts it)."""
-    from paintapp.paint import columns as columns_module
     from paintapp.paint import columns_kernels
 
     def canvas() -> Canvas:
@@ -253,8 +252,6 @@ def test_write_back_skips_unchanged_pigments_with_the_same_bits(monkeypatch, tex
                     patch.setattr(columns_kernels, name, all_pigments(real, at))
                 real_sweep = columns_kernels.sweep_change
                 patch.setattr(columns_kernels, "sweep_change", all_pigments(real_sweep, 10))
-                real_shares = columns_module.sweep_shares  # the sweep of cells of three texels
-                patch.setattr(columns_module, "sweep_shares", all_pigments(real_shares, 10))
             window.write_back(c, delta, texture, gathered=columns, sweep_texels=(7.5, -3.0))
         return c
 
