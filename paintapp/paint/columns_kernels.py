@@ -723,11 +723,9 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     ``active`` (P,) does not mark is left as it is (it has no change to lay). Returns whether
     anything was swept."""
     n_p, ny, nx = new_mobile.shape
-    travel = max(abs(dx), abs(dy))
-    if travel < 0.5:
+    samples, pad_x, pad_y = sweep_reads(dx, dy, spacing)
+    if samples == 0:
         return False
-    samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
-    pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
     padded = (ny + 2 * pad_y, nx + 2 * pad_x)  # zero-padded for :func:`_swept_fields`
     change, frac = np.zeros(padded, np.float32), np.zeros(padded, np.float32)
     gain_row, loss_row = np.empty(nx), np.empty(nx)  # a row's gains and losses, to be summed
@@ -737,10 +735,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     ratio_n = np.empty(ny * nx)
     cap_n = np.empty(ny * nx)
     mobile = np.empty((ny, nx))
-    share = np.empty((ny, nx))
-    for y in range(ny):
-        for x in range(nx):
-            share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
+    share = mobile_shares(wetness, x0, y0, ny, nx)
     done = False
     for p in range(n_p):
         if not active[p]:
@@ -802,13 +797,47 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                     t_row[x] = True
                 new_row[x] = new
         done = True
-    if done:  # each texel's new total, pigment by pigment along the rows
-        for y in range(ny):
-            t_row, share_row = total[y], share[y]
-            for x in range(nx):
-                t_row[x] = 0.0
-            for p in range(n_p):
-                held, new_row = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
-                for x in range(nx):
-                    t_row[x] += held[x] * (1.0 - share_row[x]) + new_row[x]
+    if done:
+        texel_totals(paint, (x0, y0, share), new_mobile, total)
     return done
+
+
+@kernel
+def sweep_reads(dx, dy, spacing):
+    """``(samples, pad_x, pad_y)`` of a sweep along (``dx``, ``dy``) texels read every
+    ``spacing`` texels or closer (at most :data:`MAX_SWEEP_SAMPLES` reads), and the columns and
+    rows of zeros its fields are padded with on every side (``|d| + 2``); no reads (0, 0, 0)
+    for a travel under half a texel, which is not swept."""
+    travel = max(abs(dx), abs(dy))
+    if travel < 0.5:
+        return 0, 0, 0
+    samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
+    return samples, int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
+
+
+@kernel
+def mobile_shares(wetness, x0, y0, ny, nx):
+    """(ny, nx): the mobile share of each texel of the box at (``x0``, ``y0``), its wetness
+    read as 1 from :data:`FULLY_WET` up."""
+    share = np.empty((ny, nx))
+    for y in range(ny):
+        for x in range(nx):
+            share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
+    return share
+
+
+@kernel
+def texel_totals(paint, box, new_mobile, total):
+    """Each texel's new paint, its dry part and ``new_mobile`` (P, ny, nx) summed over the
+    pigments, into ``total`` (ny, nx): ``box`` = (x0, y0, share), the box's first texel and its
+    texels' mobile shares; pigment by pigment along the rows."""
+    x0, y0, share = box
+    n_p, ny, nx = new_mobile.shape
+    for y in range(ny):
+        t_row, share_row = total[y], share[y]
+        for x in range(nx):
+            t_row[x] = 0.0
+        for p in range(n_p):
+            held, new_row = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
+            for x in range(nx):
+                t_row[x] += held[x] * (1.0 - share_row[x]) + new_row[x]

@@ -35,11 +35,12 @@ from __future__ import annotations
 import numpy as np
 
 from paintapp.paint.columns_kernels import (
-    MAX_SWEEP_SAMPLES,
     SWEPT_ROUND_OFF,
-    _mobile_share,
     _path_samples,
     _sum,
+    mobile_shares,
+    sweep_reads,
+    texel_totals,
 )
 from paintapp.paint.kept_share import (
     KEEP_FLOOR,
@@ -206,17 +207,16 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     (P, H, W) and ``wetness`` (H, W) the canvas's float32 arrays, the box's first texel at
     (``x0``, ``y0``), ``new_mobile`` (P, ny, nx) the step's new mobile paint there with the tip
     at its end pose, ``(dx, dy)`` texels the tip's travel during the step, read every
-    ``spacing`` texels or closer (at most :data:`MAX_SWEEP_SAMPLES` reads). A pigment whose
+    ``spacing`` texels or closer (at most
+    :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES` reads). A pigment whose
     swept amounts miss the step's by more than :data:`SWEPT_ROUND_OFF` of them (the box cut
     short at the canvas's edge), or whose texels on the path hold less than its loss, keeps its
     unswept change. ``touched`` and ``total`` are updated; a pigment ``active`` (P,) does not
     mark is left as it is. Returns whether anything was swept."""
     n_p, ny, nx = new_mobile.shape
-    travel = max(abs(dx), abs(dy))
-    if travel < 0.5:
+    samples, pad_x, pad_y = sweep_reads(dx, dy, spacing)
+    if samples == 0:
         return False
-    samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
-    pad_x, pad_y = int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
     padded = (ny + 2 * pad_y, nx + 2 * pad_x)
     change, log_keep = np.zeros(padded, np.float32), np.zeros(padded, np.float32)
     gain_s = np.empty((ny, nx), np.float32)
@@ -228,10 +228,7 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     lane_scale, laid, plain = np.empty(count), np.empty(count), np.empty(count)
     spread = np.empty(count)  # each lane's gains' scale
     mobile = np.empty((ny, nx))
-    share = np.empty((ny, nx))
-    for y in range(ny):
-        for x in range(nx):
-            share[y, x] = _mobile_share(wetness[y0 + y, x0 + x])
+    share = mobile_shares(wetness, x0, y0, ny, nx)
     box = (x0, y0, pad_x, pad_y, share, mobile)
     path = (pad_x, pad_y, dx, dy, samples)
     done = False
@@ -255,15 +252,8 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
         _lane_spread(spread, (laid, plain), gained)
         _apply(new_mobile[p], (mobile, log_kept, gain_s, lane), lane_scale, spread, touched)
         done = True
-    if done:  # each texel's new total, pigment by pigment along the rows
-        for y in range(ny):
-            t_row, share_row = total[y], share[y]
-            for x in range(nx):
-                t_row[x] = 0.0
-            for p in range(n_p):
-                held, new_row = paint[p, y0 + y, x0 : x0 + nx], new_mobile[p, y]
-                for x in range(nx):
-                    t_row[x] += held[x] * (1.0 - share_row[x]) + new_row[x]
+    if done:
+        texel_totals(paint, (x0, y0, share), new_mobile, total)
     return done
 
 
