@@ -277,8 +277,9 @@ def _lane_spread(spread, sums, gained):
 @kernel
 def _apply(new_mobile, swept, scale, spread, touched):
     """Each texel's new mobile paint into ``new_mobile`` (ny, nx): ``swept`` = (mobile,
-    log_kept, gain_s), its paint times its share kept, ``exp(scale log_kept)``, plus ``spread``
-    times its swept gains; the texels that change are marked in ``touched``."""
+    log_kept, gain_s, lane), its paint times its share kept, ``exp(s log_kept)``, plus its
+    swept gains times ``g``, where ``s`` and ``g`` are its lane's entries of ``scale`` and
+    ``spread``; the texels that change are marked in ``touched``."""
     mobile, log_kept, gain_s, lane = swept
     ny, nx = mobile.shape
     for y in range(ny):
