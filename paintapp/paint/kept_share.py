@@ -14,7 +14,7 @@ by one factor that takes the step's loss exactly (:func:`lane_exponents`).
 
 ``taken(s) = sum m (1 - exp(s L))`` is increasing and concave in ``s``: Newton's method from
 ``s = 1`` reaches the root (a step from above lands below it, and from below it climbs
-monotonically), in three to eight passes (:func:`keep_exponent`).
+monotonically) (:func:`keep_exponent`).
 """
 
 from __future__ import annotations
