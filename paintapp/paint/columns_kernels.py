@@ -42,6 +42,10 @@ SWEPT_ROUND_OFF = 1e-5
 #: once stored as float32.
 HOLE_FILL = 1.25
 
+#: The least level, in film floors, that :func:`fill_thin_holes` shares a hole's paint out to
+#: with a neighbour too thin to lift it to :data:`HOLE_FILL` (float32 keeps it over the floor).
+HOLE_SHARED = 1.001
+
 #: Largest hole (texels) :func:`fill_thin_holes` fills.
 MAX_HOLE_TEXELS = 8
 
@@ -345,9 +349,11 @@ def fill_thin_holes(new_mobile, touched, total, floor):
     box (no path through four-neighbours at most ``floor`` to the box's edge; changed or not:
     their neighbours' change may have closed round them). Each takes from its thickest
     neighbour of eight the wet paint (in that neighbour's pigment shares) that lifts it to
-    ``HOLE_FILL`` times ``floor``, where the neighbour keeps more than that itself; those
-    beside paint first, then those beside the filled ones. (Films of about 0.1 um at a stroke's
-    fringe, a texel or two among thicker ones.) A larger unpainted region that paint encloses
+    ``HOLE_FILL`` times ``floor``, where the neighbour keeps more than that itself, else the
+    two share their paint evenly where that is over ``HOLE_SHARED`` times ``floor`` (a film
+    barely over the floor round a texel barely under it); those beside paint first, then those
+    beside the filled ones. (Films of about 0.1 um at a stroke's fringe, a texel or two among
+    thicker ones.) A larger unpainted region that paint encloses
     (over ``MAX_HOLE_TEXELS``: the inside of a loop the brush drew) is left as it is. Conserved,
     never negative; ``total`` updated. Returns how many were filled."""
     n_p, ny, nx = new_mobile.shape
@@ -398,9 +404,13 @@ def fill_thin_holes(new_mobile, touched, total, floor):
                 for dx in range(-1, 2):
                     if (dy != 0 or dx != 0) and total[y + dy, x + dx] > best:
                         best, by, bx = total[y + dy, x + dx], y + dy, x + dx
-            need = target - t
-            if by < 0 or best - need <= target:
+            if by < 0:
                 continue
+            need = target - t
+            if best - need <= target:  # too thin to lift it so far: share evenly
+                need = 0.5 * (best - t)
+                if t + need <= HOLE_SHARED * floor:
+                    continue
             wet = 0.0
             for p in range(n_p):
                 wet += new_mobile[p, by, bx]

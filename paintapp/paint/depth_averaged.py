@@ -134,8 +134,9 @@ class PaintGridDepthAveraged(PaintModel):
             names = [self.canvas.pigment_names[p] for p in used]
             report = self._exchange(q, pose, dt_s, reservoir, names)
             clock.mark("exchange")
+            threads, scheme = sim.component_threads(), self.scene.transport
             substeps = transport(
-                q, sim.state.comps, sim.state.face_types, 2, h, dt_s, sim.component_threads()
+                q, sim.state.comps, sim.state.face_types, 2, h, dt_s, threads, scheme
             )
             clock.mark("transport")
         except FloatingPointError:

@@ -73,6 +73,7 @@ def padded_transport(
     h: float,
     dt_s: float,
     threads: int = 1,
+    scheme: str = "upwind",
 ) -> tuple[int, np.ndarray]:
     """Transport cell fields ``q`` (P, nx, ny, nz) in place with the paint faces ``vel`` /
     ``types`` (:func:`paintapp.paint.trail.paint_faces`: no flux through the sides) plus the
@@ -81,8 +82,8 @@ def padded_transport(
     paint. ``ring_columns_m`` (P, nx + 2, ny + 2) is the canvas's wet paint per column in the grid
     and the ring around it (metres): the ghosts' paint. Returns the sub-steps and the ghosts'
     gains over the step, metres of column per pigment: (P, 2, 2, n) for axis, side, position
-    along the side (x sides: n = ny; y sides: n = nx, padded to the larger). ``threads``: as
-    :func:`solver.advection.scalars.transport`'s."""
+    along the side (x sides: n = ny; y sides: n = nx, padded to the larger). ``threads`` and
+    ``scheme``: as :func:`solver.advection.scalars.transport`'s."""
     n_p, nx, ny, nz = q.shape
     padded = np.zeros((n_p, nx + 2, ny + 2, nz))
     fill_columns(np.ascontiguousarray(ring_columns_m), h, padded)
@@ -101,7 +102,7 @@ def padded_transport(
     for side, j in ((0, 1), (1, ny + 1)):
         v[1:-1, j] = np.where(side_open[1][side], side_vel[1][side], 0.0)
         tv[1:-1, j] = np.where(side_open[1][side], FREE, BOUNDARY)
-    substeps = transport(padded, [u, v, w], [tu, tv, tw], 3, h, dt_s, threads)
+    substeps = transport(padded, [u, v, w], [tu, tv, tw], 3, h, dt_s, threads, scheme)
     q[:] = padded[:, 1:-1, 1:-1]
     gained = (padded - before).sum(axis=3) * h  # (P, nx + 2, ny + 2), nonzero on the ring only
     n = max(nx, ny)

@@ -274,15 +274,16 @@ class PaintGrid3D(PaintModel):
         fluid = None if cut is None else cut.fluid_frac
         vel, types = paint_faces(sim.state.comps, sim.state.face_types, label, open_frac, fluid)
         threads = sim.component_threads()  # the pigments' fields on the solver's threads
+        scheme = self.scene.transport
         if self.far == 0:
-            substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s, threads)
+            substeps = transport(q, vel, types, 3, self.cell_size_m, dt_s, threads, scheme)
         else:
             b = self.far
             on_canvas = self.outer.on_canvas()
             faces = side_faces(sim.state.comps, sim.state.face_types, open_frac, on_canvas, b)
             ring = outer[:, b - 1 : outer.shape[1] - b + 1, b - 1 : outer.shape[2] - b + 1]
             substeps, gains = padded_transport(
-                q, vel, types, *faces, ring, self.cell_size_m, dt_s, threads
+                q, vel, types, *faces, ring, self.cell_size_m, dt_s, threads, scheme
             )
             band += band_change(gains, outer, on_canvas, b)
         share = vacated_share(label_before, label, fluid_before, fluid)

@@ -28,6 +28,8 @@ A scene file::
     sweep = true                    # a step's change is laid along the path the tip swept
     transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
                                     # (half a cell less reach, a faint lattice)
+    transport = "fct"               # the paint's transport in the grid: "fct" (flux-corrected:
+                                    # fronts a cell or two wide) or "upwind" (first order)
     still_rate_per_s = 0.3          # a column changing by less than this share of its paint a
                                     # second holds still (the creep far from the brush); 0: none
 
@@ -70,6 +72,8 @@ from solver import SolverSettings, method_keys
 #: Kernels that trade paint between the grid's columns and the canvas texels
 #: (:func:`paintapp.paint.columns.transfer_weights`).
 TransferKernel = Literal["bspline", "tent"]
+#: How the grid's flow transports the paint (:func:`solver.advection.scalars.transport`).
+TransportScheme = Literal["fct", "upwind"]
 #: What the 3D grid's lateral sides are (:mod:`paintapp.paint.far_field`).
 SideKind = Literal["slip", "open"]
 #: How the paint grid follows the tip (:class:`PaintScene`'s ``follow``).
@@ -82,6 +86,7 @@ FluidModel = Literal["grid3d", "depth_averaged", "none"]
 SceneFluidModel = Literal[FluidModel, "auto"]
 
 TRANSFER_KERNELS: tuple[TransferKernel, ...] = get_args(TransferKernel)
+TRANSPORT_SCHEMES: tuple[TransportScheme, ...] = get_args(TransportScheme)
 SIDE_KINDS: tuple[SideKind, ...] = get_args(SideKind)
 FOLLOW_KINDS: tuple[FollowKind, ...] = get_args(FollowKind)
 PUSH_FILLS: tuple[PushFill, ...] = get_args(PushFill)
@@ -93,6 +98,7 @@ _CHOICES: tuple[tuple[str, str, tuple[str, ...]], ...] = (
     ("follow", "grid.follow", FOLLOW_KINDS),
     ("sides", "grid.sides", SIDE_KINDS),
     ("transfer", "paint.transfer", TRANSFER_KERNELS),
+    ("transport", "paint.transport", TRANSPORT_SCHEMES),
     ("push", "brush.push", PUSH_FILLS),
 )
 DEFAULT_SCENE = "default"
@@ -187,6 +193,12 @@ class PaintScene:
             (:mod:`paintapp.paint.columns`): ``"bspline"`` (quadratic B-spline: no cell lattice)
             or ``"tent"`` (reaches half a cell less beyond a column, but its slope jumps at
             column centres and prints a faint lattice where thin films turn colour).
+        transport: how the fluid models' flow transports the paint in their cells
+            (:func:`solver.advection.scalars.transport`): ``"fct"`` (flux-corrected: the upwind
+            step plus as much of a second-order correction as keeps each cell within its
+            neighbourhood's range, so a stroke's edge stays a cell or two wide as the flow
+            pushes it out) or ``"upwind"`` (first order: the edge smears further every step
+            the paint moves).
         still_rate_per_s: a fluid model's column whose every pigment changes in a step by less
             than this share of its wet paint per second (times the step) holds still, its change
             given to the columns the brush moves (:mod:`paintapp.paint.still`); 0 writes every
@@ -225,6 +237,7 @@ class PaintScene:
     texel_flow: bool = False
     sweep: bool = True
     transfer: TransferKernel = "bspline"
+    transport: TransportScheme = "fct"
     still_rate_per_s: float = 0.3
     pickup_fraction: float = 0.3
     push: PushFill = "distance"
@@ -332,6 +345,7 @@ def parse_paint_scene(data: dict, name: str, source: str = "<scene>") -> PaintSc
         texel_flow=paint.boolean("texel_flow", False),
         sweep=paint.boolean("sweep", True),
         transfer=_choice(paint, "transfer", "bspline", TRANSFER_KERNELS),
+        transport=_choice(paint, "transport", "fct", TRANSPORT_SCHEMES),
         still_rate_per_s=paint.number("still_rate_per_s", 0.3, minimum=0.0, maximum=10.0),
         pickup_fraction=brush.number("pickup_fraction", 0.3, minimum=0.0, maximum=1.0),
         push=_choice(brush, "push", "distance", PUSH_FILLS),

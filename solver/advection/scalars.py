@@ -24,10 +24,14 @@ import math
 
 import numpy as np
 
+from solver.advection.fct import FctScratch, correct_step
 from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.threads import run_components
 from solver.compiled.unsigned import U1
 from solver.labels import FREE
+
+#: The transport schemes (:func:`transport`'s ``scheme``).
+SCHEMES = ("upwind", "fct")
 
 #: Hard cap on sub-steps per call (a velocity this violent means something upstream is wrong).
 MAX_SUBSTEPS = 1000
@@ -224,6 +228,7 @@ def transport(
     h: float,
     dt: float,
     threads: int = 1,
+    scheme: str = "upwind",
 ) -> int:
     """Advance cell-centred ``fields`` (n, nx, ny, nz) by ``dt`` seconds in place.
 
@@ -239,10 +244,15 @@ def transport(
             groups (at most one per field), each taken through every sub-step on a thread of
             its own (:mod:`solver.compiled.threads`): the fields are independent, so the
             same values, bit for bit.
+        scheme: ``"upwind"`` (first order, the module docstring) or ``"fct"``
+            (flux-corrected transport, :mod:`solver.advection.fct`: the same sub-steps, fronts
+            kept a cell or two wide, conserved and within each neighbourhood's range).
 
     Returns:
         The number of sub-steps taken.
     """
+    if scheme not in SCHEMES:
+        raise ValueError(f"unknown transport scheme {scheme!r}: expected one of {SCHEMES}")
     if fields.ndim != 4 or fields.dtype != np.float64:
         raise ValueError("fields must be a float64 array of shape (n, nx, ny, nz)")
     if dt <= 0.0 or fields.shape[0] == 0:
@@ -252,6 +262,8 @@ def transport(
     w, tw = _third(comps, face_types, dim)
     ru, rv, rw = np.empty(comps[0].shape), np.empty(comps[1].shape), np.empty(w.shape)
     face_rates(comps[0], comps[1], w, face_types[0], face_types[1], tw, dim, rate, ru, rv, rw)
+    if scheme == "fct" and dim != 3:  # one layer: its z faces carry nothing
+        rw = np.zeros((*fields.shape[1:3], 2))
     groups = max(1, min(int(threads), fields.shape[0]))
     cuts = [fields.shape[0] * g // groups for g in range(groups + 1)]
 
@@ -261,6 +273,8 @@ def transport(
         for _ in range(n):
             gather_substep(src, ru, rv, rw, dim, dst)
             src, dst = dst, src
+        if scheme == "fct":
+            correct_step(src, (ru, rv, rw), n, FctScratch(fields.shape[1:]))
         if src is not part:
             part[:] = src
 

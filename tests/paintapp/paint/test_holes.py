@@ -125,6 +125,30 @@ def test_a_thin_hole_is_filled_from_its_thickest_neighbour_and_a_loop_s_inside_i
     assert not out[:, 7:13, 7:13].any() and touched.sum() == 3  # the two, and their giver
 
 
+def test_a_hole_in_a_film_too_thin_to_lift_it_shares_its_thickest_neighbour_s_paint():
+    """A texel just under the floor in a film just over it (1.1-1.3 floors, the fringe's
+    films): its thickest neighbour could not give what lifts it to ``HOLE_FILL`` floors and keep
+    that much, so the two share their paint evenly, both clear of the floor; conserved."""
+    floor = FILM_FLOOR_M
+    mobile = np.zeros((1, 7, 7))
+    mobile[0, 1:6, 1:6] = 1.1 * floor
+    mobile[0, 2, 3] = 1.3 * floor  # the thickest neighbour
+    mobile[0, 3, 3] = 0.99 * floor  # the hole
+    total = mobile.sum(axis=0)
+    out, touched = mobile.copy(), np.zeros((7, 7), bool)
+    assert fill_thin_holes(out, touched, total, floor) == 1
+    np.testing.assert_allclose(out[0, 3, 3], 1.145 * floor, rtol=1e-12)
+    np.testing.assert_allclose(out[0, 2, 3], 1.145 * floor, rtol=1e-12)
+    np.testing.assert_allclose(out.sum(), mobile.sum(), rtol=1e-12)
+    np.testing.assert_allclose(total, out.sum(axis=0), rtol=1e-12)
+    assert touched.sum() == 2
+    level = mobile.copy()
+    level[0, 1:6, 1:6] = 1.0005 * floor  # shared, the level would be within float32's reach
+    level[0, 3, 3] = 0.9995 * floor  # of the floor: left as it is
+    total = level.sum(axis=0)
+    assert fill_thin_holes(level.copy(), np.zeros((7, 7), bool), total, floor) == 0
+
+
 def test_a_fringe_film_goes_to_its_thickest_neighbour_and_an_inner_one_stays():
     floor = 1e-9
     mobile = np.zeros((2, 5, 7))

@@ -130,12 +130,16 @@ def test_what_finds_no_room_by_distance_goes_to_the_rings():
     assert q.sum(axis=0).max() <= 1.0 + 1e-12
 
 
-def diagonal_drag(push: str, follow: str = "cells") -> tuple[np.ndarray, np.ndarray]:
+def diagonal_drag(
+    push: str, follow: str = "cells", transport: str = "fct"
+) -> tuple[np.ndarray, np.ndarray]:
     """The square probe dragged at 0.076 m/s and a slope of 1/7.5 through 0.5 mm of wet red on
     0.1 mm texels (on a grid re-centred by whole cells, it drifts 0.42 of its 0.2 mm cells
     sideways a sub-step); the paint height and the in-contact samples' positions over the
-    middle of the drag (m)."""
-    scene = dataclasses.replace(load_paint_scene("default"), push=push, follow=follow)
+    middle of the drag (m). ``transport``: the scene's paint transport."""
+    scene = dataclasses.replace(
+        load_paint_scene("default"), push=push, follow=follow, transport=transport
+    )
     layer = np.zeros((1, 240, 560), np.float32)
     layer[0, 20:220, 20:540] = 5e-4
     canvas = Canvas((560, 240), (0.056, 0.024), (RED,), layer, (layer[0] > 0).astype(np.float32))
@@ -158,19 +162,22 @@ def diagonal_drag(push: str, follow: str = "cells") -> tuple[np.ndarray, np.ndar
 @pytest.mark.slow
 def test_a_drifting_tip_s_trail_carries_no_teeth_at_its_faces_beat_when_pushed_by_distance():
     """The probe's faces pass a cell centre every 2.4 sub-steps (15.2 texels of travel): by
-    rings, the paint it pushes jumps out a cell each time, and its trail carried teeth at that
-    period (the comb measure's three lines along the track, depth against floor, measured: 0.141
-    against 0.084; the worst line across its right-hand ridge 104 um peak to peak); by distance
-    0.080 against 0.068 (86 um). On a grid re-centred by whole cells (the default): one that follows the
-    tip continuously keeps its faces where they are in the cells, and neither rule
-    prints these teeth (rings 0.020 against 0.021)."""
+    rings, the paint it pushes jumps out a cell each time, and with the upwind transport its
+    trail carries teeth at that period (the comb measure's three lines along the track, depth
+    well over its floor); by distance it does not, and with the default (flux-corrected)
+    transport, which keeps the pushed ridges from smearing, its depth stays under the floor and
+    well under the rings'. On a grid re-centred by whole cells (the default): one that follows
+    the tip continuously keeps its faces where they are in the cells, and neither rule prints
+    these teeth."""
     found = {}
-    for push in ("rings", "distance"):
-        height, points = diagonal_drag(push)
+    for push, transport in (("rings", "upwind"), ("rings", "fct"), ("distance", "fct")):
+        height, points = diagonal_drag(push, transport=transport)
         (fold,) = period_depths(height, 1e-4, points, np.array([15.2]))
-        found[push] = fold
-    assert found["rings"].depth > 1.4 * found["rings"].floor
-    assert found["distance"].depth < 0.75 * found["rings"].depth
+        found[push, transport] = fold
+    assert found["rings", "upwind"].depth > 1.4 * found["rings", "upwind"].floor
+    by_distance = found["distance", "fct"]
+    assert by_distance.depth < by_distance.floor
+    assert by_distance.depth < 0.75 * found["rings", "fct"].depth
 
 
 def test_a_scene_s_push_is_checked():
