@@ -1,36 +1,39 @@
-"""Flux-corrected transport (Zalesak 1979) of cell-centred scalars: the upwind step of
-:mod:`.scalars` plus as much of the Lax-Wendroff flux's correction as keeps every cell within
-the range of its neighbourhood.
+"""Flux-corrected transport of cell-centred scalars (Boris and Book 1973, with Zalesak's 1979
+limiter): a step of the upwind transport of :mod:`.scalars`, then as much of its numerical
+diffusion taken back as keeps every cell within the range of its neighbourhood.
 
-First-order upwind smears a front over a width that grows with the square root of the distance it
-travels (its numerical diffusion is ``|u| h (1 - c) / 2``, ``c`` the Courant number). A
-second-order flux keeps the front, but oscillates at it. Flux-corrected transport takes each
-sub-step in two parts:
+First-order upwind smears a front over a width that grows as the root of the distance it
+travels: a sub-step of face rate ``r = u dt / h`` (the Courant number) diffuses with the
+coefficient ``|r| (1 - |r|) / 2`` (cells squared). After a step of ``n`` upwind sub-steps
+(:func:`.scalars.transport`) with the upwind result ``q_L``, each face carries an
+*antidiffusive flux*, the step's summed diffusion times the difference across the face::
 
-1. the upwind (low-order) update ``q_L`` (:func:`.scalars.gather_substep`'s fluxes);
-2. on each face, the *antidiffusive flux* ``A``: the Lax-Wendroff flux less the upwind one, which
-   for a face of rate ``r = u dt / h`` between a cell holding ``lo`` (below) and one holding
-   ``hi`` (above) is ``A = |r| (1 - |r|) (hi - lo) / 2`` from below to above, whatever the
-   flow's direction: exactly the upwind step's numerical diffusion, reversed. ``A`` is set to 0
-   where it would run down the slope of ``q_L`` (Zalesak's prelimiting).
+    A = n |r| (1 - |r|) / 2 (q_L[above] - q_L[below])     (from below to above)
 
-Each cell's bounds are the largest and smallest of ``q`` and ``q_L`` over the cell and the
-neighbours it shares a flux-carrying face with (never below 0). A cell may take in at most
-``R+ = min(1, (max - q_L) / P+)`` of the antidiffusive fluxes entering it (``P+`` their sum) and
-give at most ``R- = min(1, (q_L - min) / P-)`` of those leaving it; each face's flux is scaled
-by the smaller factor of its two cells (``R+`` of the receiver, ``R-`` of the giver). So:
+which moves paint from the thinner cell to the thicker: upwind's diffusion run backwards, on
+the step's own result (Boris and Book's order: transport and diffuse, then correct). Left as it
+is it would steepen every slope into oscillations; the limiter keeps it monotone:
 
-- every face's flux (upwind and correction) leaves one cell and enters the other: the total is
-  conserved to round-off, as upwind's;
-- no cell leaves ``[min, max]`` of its neighbourhood: no new extremum, nothing negative (the upwind
-  step is non-negative at the sub-steps :func:`.scalars.substeps_needed` takes);
-- where the fields are smooth the limiter lets the whole correction through (second order); at a
-  front it cuts the correction back to keep the front monotone, which holds the front a cell or
-  two wide however far it travels.
+- each cell's bounds are the largest and smallest ``q_L`` over itself and the neighbours it
+  shares a face of nonzero rate with (the lower bound never below 0);
+- a cell may take in at most ``R+ = min(1, (max - q_L) / P+)`` of the antidiffusive fluxes
+  entering it (``P+`` their sum) and give at most ``R- = min(1, (q_L - min) / P-)`` of those
+  leaving it (``P-``);
+- each face's flux is scaled by the smaller of ``R+`` of the cell it enters and ``R-`` of the
+  cell it leaves.
 
-Each field is limited on its own (a pigment's bounds are its own). Faces with rate 0 (solid
-faces, the domain's sides, a face that carries no flux) carry no correction and add no
-neighbour to a cell's bounds.
+So every flux leaves one cell and enters the other (the total conserved to round-off, as
+upwind's), and no cell leaves its neighbourhood's range (no new extremum; nothing negative).
+Where the field is smooth the whole correction goes through; at a front it is cut back just
+enough to keep the front monotone, which holds the front a few cells wide however far it
+travels. Each field is limited on its own (a pigment's bounds are its own). Faces of rate 0
+(solid faces, the domain's sides, faces without flux) carry no correction and add no neighbour
+to a cell's bounds.
+
+Two passes over the cells per field and step, whatever the number of sub-steps: the factors
+(:func:`limits`), then the corrected fields (:func:`corrected`), each face's flux formed again
+from ``q_L`` where it is needed. Both run a row along the last axis at a time with no branch in
+the rows' middles, so they vectorize, as :func:`.scalars.gather_substep` does.
 """
 
 from __future__ import annotations
@@ -41,194 +44,143 @@ from solver.compiled.jit import inline_kernel, kernel
 
 
 @inline_kernel
-def _upwind(r, lo, hi):
-    """The upwind flux through a face of rate ``r`` from the cell holding ``lo`` (below) to the
-    one holding ``hi`` (above)."""
-    return max(r, 0.0) * lo + min(r, 0.0) * hi
-
-
-@inline_kernel
-def _anti(r, lo, hi):
-    """The antidiffusive flux (Lax-Wendroff's less upwind's) through a face of rate ``r``, from
-    below to above."""
+def _anti(r, n, lo, hi):
+    """The antidiffusive flux through a face of rate ``r`` after ``n`` sub-steps, from the cell
+    holding ``lo`` (below) to the one holding ``hi`` (above)."""
     a = abs(r)
-    return 0.5 * a * (1.0 - a) * (hi - lo)
+    return 0.5 * n * a * (1.0 - a) * (hi - lo)
 
 
 @inline_kernel
-def _prelimit(a, low_lo, low_hi):
-    """``a`` where it runs up the slope of the low-order solution (or the slope is flat), else
-    0."""
-    return a if a * (low_hi - low_lo) >= 0.0 else 0.0
-
-
-@kernel
-def low_order(q, ru, rv, rw, low, ax, ay, az):
-    """The upwind update of one field ``q`` (nx, ny, nz) into ``low`` and each face's
-    antidiffusive flux into ``ax`` (nx + 1, ny, nz), ``ay`` (nx, ny + 1, nz), ``az`` (nx, ny,
-    nz + 1) (the face-rate arrays' shapes; ``ru``, ``rv``, ``rw`` are 0 on faces without flux).
-    Each cell sums its six faces in :func:`solver.advection.scalars.gather_substep`'s order."""
-    nx, ny, nz = q.shape
-    for i in range(nx):
-        iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
-        for j in range(ny):
-            js, jn = max(j - 1, 0), min(j + 1, ny - 1)
-            for k in range(nz):
-                kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
-                c = q[i, j, k]
-                xl, xh = ru[i, j, k], ru[i + 1, j, k]
-                yl, yh = rv[i, j, k], rv[i, j + 1, k]
-                zl, zh = rw[i, j, k], rw[i, j, k + 1]
-                t = c + _upwind(xl, q[iw, j, k], c)
-                t += _upwind(yl, q[i, js, k], c)
-                t += _upwind(zl, q[i, j, kb], c)
-                t -= _upwind(zh, c, q[i, j, kt])
-                t -= _upwind(yh, c, q[i, jn, k])
-                low[i, j, k] = t - _upwind(xh, c, q[ie, j, k])
-                ax[i, j, k] = _anti(xl, q[iw, j, k], c)
-                ay[i, j, k] = _anti(yl, q[i, js, k], c)
-                az[i, j, k] = _anti(zl, q[i, j, kb], c)
+def _top(r, here, there):
+    """``there`` where the face between (rate ``r``) carries flux, else ``here``."""
+    return there if r != 0.0 else here
 
 
 @inline_kernel
-def _widen(r, ql, q_nb, low_nb, top, bottom):
-    """``(top, bottom)`` widened by a neighbour's ``q`` and ``q_L`` where the face to it (rate
-    ``r``) carries flux (else by the cell's own ``q_L``, ``ql``: no change)."""
-    flows = r != 0.0
-    top = max(top, max(q_nb, low_nb) if flows else ql)
-    bottom = min(bottom, min(q_nb, low_nb) if flows else ql)
-    return top, bottom
+def _factors(n, c, w, e, s, nn, b, t, xl, xh, yl, yh, zl, zh):
+    """A cell's ``(R+, R-)``: its ``q_L`` ``c``, its neighbours' ``w``, ``e`` (x), ``s``,
+    ``nn`` (y), ``b``, ``t`` (z), and the rates of its low and high faces on each axis."""
+    top = max(
+        max(max(c, _top(xl, c, w)), max(_top(xh, c, e), _top(yl, c, s))),
+        max(max(_top(yh, c, nn), _top(zl, c, b)), _top(zh, c, t)),
+    )
+    bottom = min(
+        min(min(c, _top(xl, c, w)), min(_top(xh, c, e), _top(yl, c, s))),
+        min(min(_top(yh, c, nn), _top(zl, c, b)), _top(zh, c, t)),
+    )
+    f1 = _anti(xl, n, w, c)  # into the cell through its low faces...
+    f2 = _anti(yl, n, s, c)
+    f3 = _anti(zl, n, b, c)
+    f4 = _anti(xh, n, e, c)  # ...and through its high ones
+    f5 = _anti(yh, n, nn, c)
+    f6 = _anti(zh, n, t, c)
+    gain = max(f1, 0.0) + max(f2, 0.0) + max(f3, 0.0) + max(f4, 0.0) + max(f5, 0.0)
+    gain += max(f6, 0.0)
+    loss = max(-f1, 0.0) + max(-f2, 0.0) + max(-f3, 0.0) + max(-f4, 0.0) + max(-f5, 0.0)
+    loss += max(-f6, 0.0)
+    room = max(top - c, 0.0)
+    spare = max(c - max(bottom, 0.0), 0.0)
+    up = min(1.0, room / gain) if gain > 0.0 else 0.0
+    down = min(1.0, spare / loss) if loss > 0.0 else 0.0
+    return up, down
 
 
 @kernel
-def limits(q, low, ru, rv, rw, ax, ay, az, up, down):
+def limits(low, ru, rv, rw, n, up, down):
     """Each cell's factors ``R+`` (into ``up``) and ``R-`` (into ``down``) of the module
-    docstring, from its bounds and its prelimited antidiffusive fluxes."""
-    nx, ny, nz = q.shape
+    docstring, for ``low`` (nx, ny, nz), the upwind result of ``n`` sub-steps at the face rates
+    ``ru`` (nx + 1, ny, nz), ``rv`` (nx, ny + 1, nz), ``rw`` (nx, ny, nz + 1)."""
+    nx, ny, nz = low.shape
     for i in range(nx):
         iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
         for j in range(ny):
             js, jn = max(j - 1, 0), min(j + 1, ny - 1)
-            for k in range(nz):
+            l0, lw, le, ls, ln = low[i, j], low[iw, j], low[ie, j], low[i, js], low[i, jn]
+            xl, xh, yl, yh, zr = ru[i, j], ru[i + 1, j], rv[i, j], rv[i, j + 1], rw[i, j]
+            u0, d0 = up[i, j], down[i, j]
+            for k in range(1, nz - 1):  # no clamped index: it vectorizes
+                u0[k], d0[k] = _factors(n, l0[k], lw[k], le[k], ls[k], ln[k], l0[k - 1],
+                                        l0[k + 1], xl[k], xh[k], yl[k], yh[k], zr[k],
+                                        zr[k + 1])  # fmt: skip
+            for k in range(0, nz, max(nz - 1, 1)):  # the row's ends
                 kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
-                ql = low[i, j, k]
-                top, bottom = max(q[i, j, k], ql), min(q[i, j, k], ql)
-                top, bottom = _widen(ru[i, j, k], ql, q[iw, j, k], low[iw, j, k], top, bottom)
-                top, bottom = _widen(ru[i + 1, j, k], ql, q[ie, j, k], low[ie, j, k], top, bottom)
-                top, bottom = _widen(rv[i, j, k], ql, q[i, js, k], low[i, js, k], top, bottom)
-                top, bottom = _widen(rv[i, j + 1, k], ql, q[i, jn, k], low[i, jn, k], top, bottom)
-                top, bottom = _widen(rw[i, j, k], ql, q[i, j, kb], low[i, j, kb], top, bottom)
-                top, bottom = _widen(rw[i, j, k + 1], ql, q[i, j, kt], low[i, j, kt], top, bottom)
-                # what enters through the low faces (flux from below) and the high ones (against)
-                f1 = _prelimit(ax[i, j, k], low[iw, j, k], ql)
-                f2 = _prelimit(ay[i, j, k], low[i, js, k], ql)
-                f3 = _prelimit(az[i, j, k], low[i, j, kb], ql)
-                f4 = _prelimit(ax[i + 1, j, k], ql, low[ie, j, k])
-                f5 = _prelimit(ay[i, j + 1, k], ql, low[i, jn, k])
-                f6 = _prelimit(az[i, j, k + 1], ql, low[i, j, kt])
-                gain = max(f1, 0.0) + max(f2, 0.0) + max(f3, 0.0)
-                gain += max(-f4, 0.0) + max(-f5, 0.0) + max(-f6, 0.0)
-                loss = max(-f1, 0.0) + max(-f2, 0.0) + max(-f3, 0.0)
-                loss += max(f4, 0.0) + max(f5, 0.0) + max(f6, 0.0)
-                room = top - ql
-                spare = ql - max(bottom, 0.0)
-                up[i, j, k] = min(1.0, room / gain) if gain > 0.0 and room > 0.0 else 0.0
-                down[i, j, k] = min(1.0, spare / loss) if loss > 0.0 and spare > 0.0 else 0.0
+                u0[k], d0[k] = _factors(n, l0[k], lw[k], le[k], ls[k], ln[k], l0[kb], l0[kt],
+                                        xl[k], xh[k], yl[k], yh[k], zr[k],
+                                        zr[k + 1])  # fmt: skip
 
 
 @inline_kernel
-def _corrected(a, low_lo, low_hi, up_lo, down_lo, up_hi, down_hi):
-    """The limited antidiffusive flux from below to above: the prelimited flux times ``R+`` of
-    the cell it enters and ``R-`` of the cell it leaves."""
-    f = _prelimit(a, low_lo, low_hi)
-    scale = min(up_hi, down_lo) if f >= 0.0 else min(up_lo, down_hi)
-    return scale * f
+def _limited(r, n, lo, hi, up_lo, down_lo, up_hi, down_hi):
+    """The limited antidiffusive flux from below to above: the flux times ``R+`` of the cell it
+    enters and ``R-`` of the cell it leaves, the smaller."""
+    f = _anti(r, n, lo, hi)
+    return f * (min(up_hi, down_lo) if f >= 0.0 else min(up_lo, down_hi))
+
+
+@inline_kernel
+def _corrected_cell(n, c, w, e, s, nn, b, t, rates, u, d):
+    """A cell's corrected value: ``c`` plus the limited fluxes through its six faces
+    (``rates``: its low and high faces' on x, y, z; ``u``, ``d``: the factors of the cell, then
+    of its neighbours in ``w, e, s, nn, b, t``'s order)."""
+    xl, xh, yl, yh, zl, zh = rates
+    v = c + _limited(xl, n, w, c, u[1], d[1], u[0], d[0])
+    v += _limited(yl, n, s, c, u[3], d[3], u[0], d[0])
+    v += _limited(zl, n, b, c, u[5], d[5], u[0], d[0])
+    v -= _limited(zh, n, c, t, u[0], d[0], u[6], d[6])
+    v -= _limited(yh, n, c, nn, u[0], d[0], u[4], d[4])
+    v -= _limited(xh, n, c, e, u[0], d[0], u[2], d[2])
+    return max(v, 0.0)  # round-off below 0 (the limiter allows down to 0)
 
 
 @kernel
-def corrected(low, ax, ay, az, up, down, out):
-    """``out`` = ``low`` plus the limited antidiffusive fluxes through each cell's faces."""
+def corrected(low, ru, rv, rw, n, up, down, out):
+    """``out`` = ``low`` plus the limited antidiffusive fluxes through each cell's faces (the
+    factors from :func:`limits`)."""
     nx, ny, nz = low.shape
     for i in range(nx):
         iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
         for j in range(ny):
             js, jn = max(j - 1, 0), min(j + 1, ny - 1)
-            for k in range(nz):
+            l0, lw, le, ls, ln = low[i, j], low[iw, j], low[ie, j], low[i, js], low[i, jn]
+            xl, xh, yl, yh, zr = ru[i, j], ru[i + 1, j], rv[i, j], rv[i, j + 1], rw[i, j]
+            u0, uw, ue, us, un = up[i, j], up[iw, j], up[ie, j], up[i, js], up[i, jn]
+            d0, dw, de, ds, dn = down[i, j], down[iw, j], down[ie, j], down[i, js], down[i, jn]
+            o = out[i, j]
+            for k in range(1, nz - 1):  # no clamped index: it vectorizes
+                o[k] = _corrected_cell(
+                    n, l0[k], lw[k], le[k], ls[k], ln[k], l0[k - 1], l0[k + 1],
+                    (xl[k], xh[k], yl[k], yh[k], zr[k], zr[k + 1]),
+                    (u0[k], uw[k], ue[k], us[k], un[k], u0[k - 1], u0[k + 1]),
+                    (d0[k], dw[k], de[k], ds[k], dn[k], d0[k - 1], d0[k + 1]),
+                )  # fmt: skip
+            for k in range(0, nz, max(nz - 1, 1)):  # the row's ends
                 kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
-                ql, u0, d0 = low[i, j, k], up[i, j, k], down[i, j, k]
-                t = ql + _corrected(
-                    ax[i, j, k], low[iw, j, k], ql, up[iw, j, k], down[iw, j, k], u0, d0
-                )
-                t += _corrected(
-                    ay[i, j, k], low[i, js, k], ql, up[i, js, k], down[i, js, k], u0, d0
-                )
-                t += _corrected(
-                    az[i, j, k], low[i, j, kb], ql, up[i, j, kb], down[i, j, kb], u0, d0
-                )
-                t -= _corrected(
-                    az[i, j, k + 1], ql, low[i, j, kt], u0, d0, up[i, j, kt], down[i, j, kt]
-                )
-                t -= _corrected(
-                    ay[i, j + 1, k], ql, low[i, jn, k], u0, d0, up[i, jn, k], down[i, jn, k]
-                )
-                t -= _corrected(
-                    ax[i + 1, j, k], ql, low[ie, j, k], u0, d0, up[ie, j, k], down[ie, j, k]
-                )
-                out[i, j, k] = max(t, 0.0)  # round-off below 0 (the limiter allows down to 0)
-
-
-class FctScratch:
-    """The work arrays of :func:`correct_step` for cells of shape (nx, ny, nz), made once a
-    transport call."""
-
-    def __init__(self, shape: tuple[int, int, int]) -> None:
-        nx, ny, nz = shape
-        self.up = np.empty(shape)
-        self.down = np.empty(shape)
-        self.out = np.empty(shape)
-        self.ax = np.zeros((nx + 1, ny, nz))
-        self.ay = np.zeros((nx, ny + 1, nz))
-        self.az = np.zeros((nx, ny, nz + 1))
+                o[k] = _corrected_cell(
+                    n, l0[k], lw[k], le[k], ls[k], ln[k], l0[kb], l0[kt],
+                    (xl[k], xh[k], yl[k], yh[k], zr[k], zr[k + 1]),
+                    (u0[k], uw[k], ue[k], us[k], un[k], u0[kb], u0[kt]),
+                    (d0[k], dw[k], de[k], ds[k], dn[k], d0[kb], d0[kt]),
+                )  # fmt: skip
 
 
 @kernel
-def step_antidiffusion(low, ru, rv, rw, substeps, ax, ay, az):
-    """Each face's antidiffusive flux for a whole step of ``substeps`` upwind sub-steps at the
-    face rates ``ru``, ``rv``, ``rw``: the sub-steps' summed numerical diffusion
-    ``substeps |r| (1 - |r|) / 2`` times the difference of ``low`` (the step's upwind result)
-    across the face, from below to above."""
-    nx, ny, nz = low.shape
-    for i in range(nx):
-        iw = max(i - 1, 0)
-        for j in range(ny):
-            js = max(j - 1, 0)
-            for k in range(nz):
-                kb = max(k - 1, 0)
-                c = low[i, j, k]
-                ax[i, j, k] = substeps * _anti(ru[i, j, k], low[iw, j, k], c)
-                ay[i, j, k] = substeps * _anti(rv[i, j, k], low[i, js, k], c)
-                az[i, j, k] = substeps * _anti(rw[i, j, k], low[i, j, kb], c)
-
-
-@kernel
-def fields_correct(fields, ru, rv, rw, substeps, ax, ay, az, up, down, out):
-    """:func:`correct_step` as one kernel, field by field, in place."""
+def fields_correct(fields, ru, rv, rw, n, up, down, out):
+    """:func:`correct_step`'s work as one kernel: each field's factors, then its corrected
+    values, copied back into it."""
     for p in range(fields.shape[0]):
         low = fields[p]
-        step_antidiffusion(low, ru, rv, rw, substeps, ax, ay, az)
-        limits(low, low, ru, rv, rw, ax, ay, az, up, down)
-        corrected(low, ax, ay, az, up, down, out)
+        limits(low, ru, rv, rw, n, up, down)
+        corrected(low, ru, rv, rw, n, up, down, out)
         low[:] = out
 
 
 def correct_step(
-    fields: np.ndarray,
-    rates: tuple[np.ndarray, np.ndarray, np.ndarray],
-    substeps: int,
-    scratch: FctScratch,
+    fields: np.ndarray, rates: tuple[np.ndarray, np.ndarray, np.ndarray], substeps: int
 ) -> None:
     """Correct ``fields`` (n, nx, ny, nz), the result of ``substeps`` upwind sub-steps at the
-    face rates of :func:`solver.advection.scalars.face_rates`, in place (in 2D a single layer,
-    ``rw`` all 0 with shape (nx, ny, 2))."""
-    s = scratch
-    fields_correct(fields, *rates, float(substeps), s.ax, s.ay, s.az, s.up, s.down, s.out)
+    face rates of :func:`solver.advection.scalars.face_rates`, in place (the module docstring).
+    In 2D, a single layer: ``rates[2]`` all 0 with shape (nx, ny, 2)."""
+    shape = fields.shape[1:]
+    up, down, out = np.empty(shape), np.empty(shape), np.empty(shape)
+    fields_correct(fields, *rates, float(substeps), up, down, out)

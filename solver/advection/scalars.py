@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from solver.advection.fct import FctScratch, correct_step
+from solver.advection.fct import correct_step
 from solver.compiled.jit import inline_kernel, kernel
 from solver.compiled.threads import run_components
 from solver.compiled.unsigned import U1
@@ -274,7 +274,7 @@ def transport(
             gather_substep(src, ru, rv, rw, dim, dst)
             src, dst = dst, src
         if scheme == "fct":
-            correct_step(src, (ru, rv, rw), n, FctScratch(fields.shape[1:]))
+            correct_step(src, (ru, rv, rw), n)
         if src is not part:
             part[:] = src
 
