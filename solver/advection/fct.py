@@ -32,8 +32,9 @@ to a cell's bounds.
 
 Two passes over the cells per field and step, whatever the number of sub-steps: the factors
 (:func:`limits`), then the corrected fields (:func:`corrected`), each face's flux formed again
-from ``q_L`` where it is needed. Both run a row along the last axis at a time with no branch in
-the rows' middles, so they vectorize, as :func:`.scalars.gather_substep` does.
+from ``q_L`` where it is needed. Both run a row along the last axis at a time over a copy of
+``q_L`` padded by a layer below and above, so that no index is clamped in a row and the rows
+vectorize.
 """
 
 from __future__ import annotations
@@ -89,9 +90,12 @@ def _factors(n, c, w, e, s, nn, b, t, xl, xh, yl, yh, zl, zh):
 @kernel
 def limits(low, ru, rv, rw, n, up, down):
     """Each cell's factors ``R+`` (into ``up``) and ``R-`` (into ``down``) of the module
-    docstring, for ``low`` (nx, ny, nz), the upwind result of ``n`` sub-steps at the face rates
-    ``ru`` (nx + 1, ny, nz), ``rv`` (nx, ny + 1, nz), ``rw`` (nx, ny, nz + 1)."""
-    nx, ny, nz = low.shape
+    docstring, for ``low``, the upwind result of ``n`` sub-steps at the face rates ``ru`` (nx +
+    1, ny, nz), ``rv`` (nx, ny + 1, nz), ``rw`` (nx, ny, nz + 1). ``low``, ``up`` and ``down``
+    are (nx, ny, nz + 2): the cells with a layer of padding below and above (cell ``k`` at
+    ``k + 1``), so that every cell has both z neighbours and the rows carry no clamped index
+    (they vectorize); the padding's factors are left alone."""
+    nx, ny, nz = ru.shape[0] - 1, ru.shape[1], ru.shape[2]
     for i in range(nx):
         iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
         for j in range(ny):
@@ -99,14 +103,10 @@ def limits(low, ru, rv, rw, n, up, down):
             l0, lw, le, ls, ln = low[i, j], low[iw, j], low[ie, j], low[i, js], low[i, jn]
             xl, xh, yl, yh, zr = ru[i, j], ru[i + 1, j], rv[i, j], rv[i, j + 1], rw[i, j]
             u0, d0 = up[i, j], down[i, j]
-            for k in range(1, nz - 1):  # no clamped index: it vectorizes
-                u0[k], d0[k] = _factors(n, l0[k], lw[k], le[k], ls[k], ln[k], l0[k - 1],
-                                        l0[k + 1], xl[k], xh[k], yl[k], yh[k], zr[k],
-                                        zr[k + 1])  # fmt: skip
-            for k in range(0, nz, max(nz - 1, 1)):  # the row's ends
-                kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
-                u0[k], d0[k] = _factors(n, l0[k], lw[k], le[k], ls[k], ln[k], l0[kb], l0[kt],
-                                        xl[k], xh[k], yl[k], yh[k], zr[k],
+            for k in range(nz):
+                c = k + 1
+                u0[c], d0[c] = _factors(n, l0[c], lw[c], le[c], ls[c], ln[c], l0[c - 1],
+                                        l0[c + 1], xl[k], xh[k], yl[k], yh[k], zr[k],
                                         zr[k + 1])  # fmt: skip
 
 
@@ -135,9 +135,9 @@ def _corrected_cell(n, c, w, e, s, nn, b, t, rates, u, d):
 
 @kernel
 def corrected(low, ru, rv, rw, n, up, down, out):
-    """``out`` = ``low`` plus the limited antidiffusive fluxes through each cell's faces (the
-    factors from :func:`limits`)."""
-    nx, ny, nz = low.shape
+    """``out`` (nx, ny, nz) = ``low`` plus the limited antidiffusive fluxes through each cell's
+    faces (``low``, ``up``, ``down`` padded as in :func:`limits`, the padding's factors 0)."""
+    nx, ny, nz = out.shape
     for i in range(nx):
         iw, ie = max(i - 1, 0), min(i + 1, nx - 1)
         for j in range(ny):
@@ -147,32 +147,29 @@ def corrected(low, ru, rv, rw, n, up, down, out):
             u0, uw, ue, us, un = up[i, j], up[iw, j], up[ie, j], up[i, js], up[i, jn]
             d0, dw, de, ds, dn = down[i, j], down[iw, j], down[ie, j], down[i, js], down[i, jn]
             o = out[i, j]
-            for k in range(1, nz - 1):  # no clamped index: it vectorizes
+            for k in range(nz):
+                c = k + 1
                 o[k] = _corrected_cell(
-                    n, l0[k], lw[k], le[k], ls[k], ln[k], l0[k - 1], l0[k + 1],
+                    n, l0[c], lw[c], le[c], ls[c], ln[c], l0[c - 1], l0[c + 1],
                     (xl[k], xh[k], yl[k], yh[k], zr[k], zr[k + 1]),
-                    (u0[k], uw[k], ue[k], us[k], un[k], u0[k - 1], u0[k + 1]),
-                    (d0[k], dw[k], de[k], ds[k], dn[k], d0[k - 1], d0[k + 1]),
-                )  # fmt: skip
-            for k in range(0, nz, max(nz - 1, 1)):  # the row's ends
-                kb, kt = max(k - 1, 0), min(k + 1, nz - 1)
-                o[k] = _corrected_cell(
-                    n, l0[k], lw[k], le[k], ls[k], ln[k], l0[kb], l0[kt],
-                    (xl[k], xh[k], yl[k], yh[k], zr[k], zr[k + 1]),
-                    (u0[k], uw[k], ue[k], us[k], un[k], u0[kb], u0[kt]),
-                    (d0[k], dw[k], de[k], ds[k], dn[k], d0[kb], d0[kt]),
+                    (u0[c], uw[c], ue[c], us[c], un[c], u0[c - 1], u0[c + 1]),
+                    (d0[c], dw[c], de[c], ds[c], dn[c], d0[c - 1], d0[c + 1]),
                 )  # fmt: skip
 
 
 @kernel
-def fields_correct(fields, ru, rv, rw, n, up, down, out):
-    """:func:`correct_step`'s work as one kernel: each field's factors, then its corrected
-    values, copied back into it."""
+def fields_correct(fields, ru, rv, rw, n, low, up, down):
+    """:func:`correct_step`'s work as one kernel: each field copied into the padded ``low``,
+    its factors, then its corrected values written back into it."""
+    _, nx, ny, nz = fields.shape
     for p in range(fields.shape[0]):
-        low = fields[p]
+        field = fields[p]
+        for i in range(nx):  # loops, not a slice copy: numba compiles these far faster
+            for j in range(ny):
+                for k in range(nz):
+                    low[i, j, k + 1] = field[i, j, k]
         limits(low, ru, rv, rw, n, up, down)
-        corrected(low, ru, rv, rw, n, up, down, out)
-        low[:] = out
+        corrected(low, ru, rv, rw, n, up, down, field)
 
 
 def correct_step(
@@ -181,6 +178,7 @@ def correct_step(
     """Correct ``fields`` (n, nx, ny, nz), the result of ``substeps`` upwind sub-steps at the
     face rates of :func:`solver.advection.scalars.face_rates`, in place (the module docstring).
     In 2D, a single layer: ``rates[2]`` all 0 with shape (nx, ny, 2)."""
-    shape = fields.shape[1:]
-    up, down, out = np.empty(shape), np.empty(shape), np.empty(shape)
-    fields_correct(fields, *rates, float(substeps), up, down, out)
+    nx, ny, nz = fields.shape[1:]
+    low = np.zeros((nx, ny, nz + 2))  # the padding: no flux through the z ends reads it
+    up, down = np.zeros((nx, ny, nz + 2)), np.zeros((nx, ny, nz + 2))
+    fields_correct(fields, *rates, float(substeps), low, up, down)
