@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from solver.advection.scalars import transport
-from solver.boundary import DomainBoundary, Side
-from solver.grid import Grid
 from solver.labels import BOUNDARY
-from solver.simulation import Fluid, Simulation
-from tests.solver.advection.test_scalar_transport import stirred_sim, uniform_flow
+from tests.solver.advection.test_scalar_transport import (
+    lid_driven_block,
+    stirred_sim,
+    uniform_flow,
+)
 
 
 def moved(fields: np.ndarray, speed: float, dt: float, scheme: str, steps: int = 1) -> np.ndarray:
@@ -49,13 +50,7 @@ def test_a_stirred_grid_conserves_every_field_to_round_off_and_stays_non_negativ
 
 def test_a_divergence_free_flow_keeps_values_within_their_initial_range():
     """A lid-driven box: no new extremum (the limiter's bounds) where upwind keeps none."""
-    grid = Grid.from_size((1.0, 1.0, 1.0), (12, 12, 12))
-    lid = {"z_max": Side("wall", velocity=(2.0, 0.5, 0.0))}
-    sim = Simulation(grid, Fluid(1.0, 1e-2), DomainBoundary(grid, lid))
-    for _ in range(3):
-        sim.step(0.05)
-    fields = np.zeros((1, *sim.grid.cells))
-    fields[0, 3:8, 3:9, 6:10] = 1.0
+    sim, fields = lid_driven_block()
     comps, types = sim.state.comps, sim.state.face_types
     transport(fields, comps, types, 3, sim.grid.cell_size_m, 0.3, scheme="fct")
     assert fields.max() <= 1.0 + 1e-5  # the projection's divergence tolerance
