@@ -29,7 +29,7 @@ A scene file::
     transfer = "bspline"            # columns <-> texels: "bspline" (no cell lattice) or "tent"
                                     # (half a cell less reach, a faint lattice)
     transport = "fct"               # the paint's transport in the grid: "fct" (flux-corrected:
-                                    # fronts a cell or two wide) or "upwind" (first order)
+                                    # fronts a few cells wide) or "upwind" (first order)
     still_rate_per_s = 0.3          # a column changing by less than this share of its paint a
                                     # second holds still (the creep far from the brush); 0: none
 
@@ -195,8 +195,8 @@ class PaintScene:
             column centres and prints a faint lattice where thin films turn colour).
         transport: how the fluid models' flow transports the paint in their cells
             (:func:`solver.advection.scalars.transport`): ``"fct"`` (flux-corrected: the upwind
-            step plus as much of a second-order correction as keeps each cell within its
-            neighbourhood's range, so a stroke's edge stays a cell or two wide as the flow
+            step, then as much of its numerical diffusion taken back as keeps each cell within
+            its neighbourhood's range, so a stroke's edge stays a few cells wide as the flow
             pushes it out) or ``"upwind"`` (first order: the edge smears further every step
             the paint moves).
         still_rate_per_s: a fluid model's column whose every pigment changes in a step by less

@@ -245,8 +245,9 @@ def transport(
             its own (:mod:`solver.compiled.threads`): the fields are independent, so the
             same values, bit for bit.
         scheme: ``"upwind"`` (first order, the module docstring) or ``"fct"``
-            (flux-corrected transport, :mod:`solver.advection.fct`: the same sub-steps, fronts
-            kept a cell or two wide, conserved and within each neighbourhood's range).
+            (flux-corrected transport, :mod:`solver.advection.fct`: the same sub-steps, then
+            fronts kept a few cells wide however far they travel, conserved and within each
+            neighbourhood's range).
 
     Returns:
         The number of sub-steps taken.
