@@ -18,7 +18,9 @@ from paintapp.app.settings import PaintSettings, make_preset, make_scene, scaled
 from paintapp.canvas.model import Canvas
 from paintapp.cli import main
 from paintapp.haptics.device import DeviceState
+from paintapp.paint.columns import cell_texels
 from paintapp.paint.fit import fit_grid
+from paintapp.paint.paint_model import brush_width_m
 from paintapp.paint.paint_scene import load_paint_scene, parse_paint_scene
 from paintapp.strokes.files import read_strokes
 from paintapp.strokes.records import Marker
@@ -180,13 +182,18 @@ def test_the_window_paints_live_the_default_paint_on_a_grid_fitted_to_the_brush(
     settings = PaintSettings()
     live, default = make_scene(settings, None), load_paint_scene("default")
     assert live.name == "live" and live.fluid_model == "grid3d"
-    same = ("viscosity_pa_s", "density_kg_m3", "cells", "span", "follow", "sides", "push")
+    same = ("viscosity_pa_s", "density_kg_m3", "cells", "follow", "sides", "push")
     assert [getattr(live, k) for k in same] == [getattr(default, k) for k in same]
     assert live.choose.fit_grid and live.choose.stokes_below_re > 0.0
     assert not default.choose.fit_grid and default.choose.stokes_below_re == 0.0
-    # the window's brush on its A4 canvas at 0.1 mm: fewer cells of the same size
-    fitted = fit_grid(live, make_preset(settings), 1e-4, "grid3d", 0.3).cells
+    # the window's brush on its A4 canvas at 0.1 mm: fewer cells than the scene's, and finer
+    # than the default's (the same cells over a narrower span)
+    preset = make_preset(settings)
+    fitted = fit_grid(live, preset, 1e-4, "grid3d", 0.3).cells
     assert fitted[0] < live.cells[0] and fitted[1] < live.cells[1] and fitted[2] < live.cells[2]
+    width = brush_width_m(preset)
+    cell = cell_texels(width, 1e-4, live.cells[0], live.span)
+    assert cell < cell_texels(width, 1e-4, default.cells[0], default.span)
 
 
 def test_the_window_takes_the_auto_scene_and_its_model_control_offers_it():
