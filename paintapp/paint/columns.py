@@ -36,9 +36,11 @@ from paintapp.paint.share_sweep import sweep_shares
 
 #: Samples per cell of travel that a swept change is averaged over (at most
 #: :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES`): the columns' change is smooth on
-#: the scale of a cell, and the bristle texture's streaks run along the path, so two a cell lay it
-#: as evenly as a sample a texel did (docs/performance.md, the sweep's samples).
-SWEEP_SAMPLES_PER_CELL = 2
+#: the scale of a cell, and the bristle texture's streaks run along the path, so a few a cell lay
+#: it as evenly as a sample a texel does; with the sharper fronts of the flux-corrected transport
+#: two a cell left a tooth a step beside the strokes, three do not (docs/performance.md, the
+#: sweep's samples).
+SWEEP_SAMPLES_PER_CELL = 3
 #: Longest distance (texels) between two of those samples, for a grid of large cells.
 SWEEP_SPACING_TEXELS = 6.0
 #: Fewest texels per cell edge at which the write-back lays a step's change along the tip's path.
