@@ -18,7 +18,8 @@ rate, tick-interval jitter and start lateness, and what the OS granted the servo
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo loop
 -- as fast as it takes them, from the first paint step on, and prints that paint-step rate, the
-window's share of it, and the replay's real-time ratio (wall seconds per second of the journal).
+window's share of it, the replay's real-time ratio (wall seconds per second of the journal),
+and the edge width of the paint it left (:mod:`paintapp.canvas.edges`, global and local).
 
 ``--rounds N`` repeats the whole measurement N times (a fresh window and servo process each time,
 each window run followed by its own headless run) and ends with a table of every round and the
@@ -66,6 +67,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 
 def private_display() -> subprocess.Popen | None:
@@ -243,11 +246,12 @@ def paint(
     }
 
 
-def headless_rate(seconds: float, journal: Path) -> tuple[float, float, float]:
+def headless_rate(seconds: float, journal: Path) -> tuple[float, float, float, np.ndarray]:
     """Paint steps per second of a fresh session, no window and no servo loop, fed the very
     samples and events the window's simulation consumed (its journal), as fast as it can take
-    them, for up to ``seconds``; the CPU time it got per wall second; and its real-time ratio:
-    wall seconds per second of the journal it replayed (NaN when it replayed none)."""
+    them, for up to ``seconds``; the CPU time it got per wall second; its real-time ratio:
+    wall seconds per second of the journal it replayed (NaN when it replayed none); and the
+    paint it left on its canvas (P, H, W), metres."""
     from paintapp.app.options import PaintOptions, blank_canvas
     from paintapp.app.settings import PaintSettings, make_preset, make_scene, rebuild_session
     from paintapp.haptics.channel import ForceChannel
@@ -277,7 +281,7 @@ def headless_rate(seconds: float, journal: Path) -> tuple[float, float, float]:
     elapsed = time.perf_counter() - start
     realtime = elapsed / (last_t - first_t) if last_t > first_t else math.nan
     rate = (session.stats.paint_steps - steps0) / elapsed
-    return rate, (time.thread_time() - cpu0) / elapsed, realtime
+    return rate, (time.thread_time() - cpu0) / elapsed, realtime, canvas.paint_m
 
 
 def main() -> None:
@@ -421,6 +425,7 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     from paintapp.app.options import PaintOptions
     from paintapp.app.settings import PaintSettings
     from paintapp.bench.host_steal import StealMonitor
+    from paintapp.canvas.edges import paint_edge_widths
 
     if args.switch_interval_ms is not None:
         sys.setswitchinterval(1e-3 * args.switch_interval_ms)
@@ -506,12 +511,20 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
     headless_s = args.seconds if args.headless_seconds is None else args.headless_seconds
     if headless_s > 0:
         with StealMonitor() as headless_steal:
-            headless, headless_cpu, realtime = headless_rate(headless_s, tmp / "bench.jsonl")
+            headless, headless_cpu, realtime, paint_m = headless_rate(
+                headless_s, tmp / "bench.jsonl"
+            )
         share = rates["sim_hz"] / headless if headless > 0 else 0.0
         print(f"headless rate   {headless:7.1f} paint steps/s (window: {100 * share:.0f} %), "
               f"CPU per second {headless_cpu:.2f} (machine load {os.getloadavg()[0]:.1f})")  # fmt: skip
         print(f"headless replay {realtime:7.2f} s per recorded s (real-time ratio of the journal)")
         figures["headless real-time ratio"] = realtime
+        edges = paint_edge_widths(paint_m)
+        for width in edges:
+            print(f"headless canvas {width.describe()}")
+        figures["headless edge width"], figures["headless local edge width"] = (
+            e.width_texels for e in edges
+        )
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
         if rates["sim_hz"] > 0 and headless > 0 and headless_cpu > 0:
