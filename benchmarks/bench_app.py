@@ -522,9 +522,8 @@ def measure(args: argparse.Namespace, tmp: Path) -> dict[str, object]:
         edges = paint_edge_widths(paint_m)
         for width in edges:
             print(f"headless canvas {width.describe()}")
-        figures["headless edge width"], figures["headless local edge width"] = (
-            e.width_texels for e in edges
-        )
+        figures["headless edge width"] = edges[0].width_texels
+        figures["headless local edge width"] = edges[1].width_texels
         figures |= {"headless simulation rate": headless, "window share of headless": share}
         figures["headless_cpu"] = headless_cpu
         if rates["sim_hz"] > 0 and headless > 0 and headless_cpu > 0:

@@ -83,9 +83,9 @@ def test_demo_paints_mixes_and_records_forces(tmp_path):
     assert canvas.height_m[red].max() > 5e-4  # impasto: over half a millimetre
     assert count_holes(canvas.height_m) == (0, 0)  # no unpainted texel inside the painting
     # The probe's trail through the impasto carries a shallow comb at most: at its step (12.6
-    # texels) and at its sub-step (6.3) the height varies by 0.015 of itself (floors 0.011 and
-    # 0.004); at 50 texels by no more than with each step's phase dealt at random (0.045 under
-    # 0.054), where it varied by 0.38 when the grid followed the tip by whole cells.
+    # texels) and at its sub-step (6.3) the height varies by a few hundredths of itself; at 50
+    # texels by no more than with each step's phase dealt at random (the whole-cells window of
+    # the past varied by 0.38 there, several times that floor).
     height = canvas.height_m.astype(np.float64)
     probe = next(p for p in stroke_paths(painted) if "probe" in p.label)
     step_depth, _ = tooth_depth(height, dx, probe.points_m)
