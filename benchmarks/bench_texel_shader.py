@@ -9,10 +9,11 @@ window's case (the box and travel of ``round_large`` on 0.1 mm texels, ``--box``
 ``--travel`` to change them), checks that they agree, and prints median milliseconds of:
 
 - the numba kernel (one thread, as the window paints);
-- the shader with the fields resident on the device (the dispatch and its wait only: what the
-  pass would cost if the paint lived in textures);
-- the shader with the fields uploaded before and the three results read back after (what it
-  costs while the paint lives in numpy arrays).
+- the shader, in two forms (the fields in storage buffers, or in float textures read with
+  ``texelFetch`` and the results written as images), with the fields resident on the device
+  (the dispatch and its wait only: what the pass would cost if the paint lived there), and with
+  the fields uploaded before and the three results read back after (what it costs while the
+  paint lives in numpy arrays).
 
 On a machine without a GPU the shader runs on Mesa's llvmpipe (the renderer's name is printed).
 
@@ -25,6 +26,8 @@ import argparse
 import statistics
 import sys
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -73,6 +76,42 @@ void main() {
 """
 
 
+TEXTURE_SHADER = """
+#version 430
+layout(local_size_x = LOCAL, local_size_y = LOCAL) in;
+layout(binding = 0) uniform sampler2D change;
+layout(binding = 1) uniform sampler2D frac;
+layout(r32f, binding = 0) writeonly uniform image2D gain_s;
+layout(r32f, binding = 1) writeonly uniform image2D loss_s;
+layout(r32f, binding = 2) writeonly uniform image2D cap;
+uniform ivec2 size;
+uniform ivec2 pad;
+uniform int samples;
+uniform ivec2 offs[8];
+uniform vec4 w[8];
+vec4 quad(sampler2D field, ivec2 a) {
+    return vec4(texelFetch(field, a, 0).r, texelFetch(field, a + ivec2(1, 0), 0).r,
+                texelFetch(field, a + ivec2(0, 1), 0).r, texelFetch(field, a + ivec2(1, 1), 0).r);
+}
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= size.x || p.y >= size.y) return;
+    float g = 0.0, l = 0.0, c = 0.0;
+    for (int k = 0; k < samples; ++k) {
+        ivec2 a = p + pad + offs[k];
+        vec4 cv = quad(change, a);
+        g += dot(w[k], max(cv, 0.0));
+        l += dot(w[k], max(-cv, 0.0));
+        c = max(c, dot(w[k], quad(frac, a)));
+    }
+    float mean = 1.0 / float(samples);
+    imageStore(gain_s, p, vec4(g * mean));
+    imageStore(loss_s, p, vec4(l * mean));
+    imageStore(cap, p, vec4(c));
+}
+"""
+
+
 def fields(box: tuple[int, int], pad: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """The change (a loss under a brush-shaped blob, a gain at its front) and the fraction lost,
     float32, padded with ``pad`` (x, y) zeros on every side, as the sweep pads them."""
@@ -112,6 +151,97 @@ def median_ms(run, repeats: int) -> float:
     return statistics.median(times)
 
 
+@dataclass(frozen=True)
+class Case:
+    """The pass's inputs: the padded fields, the box (ny, nx), the padding (x, y), the travel
+    (dx, dy) and the number of samples along it."""
+
+    change: np.ndarray
+    frac: np.ndarray
+    box: tuple[int, int]
+    pad: tuple[int, int]
+    travel: tuple[float, float]
+    samples: int
+
+
+def set_uniforms(program, case: Case) -> None:
+    """The box, padding and path samples both shader forms read."""
+    offs, weights = path_samples(*case.travel, case.samples)
+    program["size"].value = (case.box[1], case.box[0])
+    program["pad"].value = case.pad
+    program["samples"].value = case.samples
+    program["offs"].write(np.resize(offs, (8, 2)).astype(np.int32).tobytes())
+    program["w"].write(np.resize(weights, (8, 4)).astype(np.float32).tobytes())
+
+
+def buffer_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, Callable]:
+    """(resident, round trip) runs of the shader on storage buffers; the round trip writes
+    ``outputs``."""
+    ny, nx = case.box
+    program = ctx.compute_shader(SHADER.replace("LOCAL", str(LOCAL)))
+    set_uniforms(program, case)
+    program["stride"].value = case.change.shape[1]
+    inputs = [ctx.buffer(case.change.tobytes()), ctx.buffer(case.frac.tobytes())]
+    results = [ctx.buffer(reserve=4 * nx * ny) for _ in range(3)]
+    groups = (-(-nx // LOCAL), -(-ny // LOCAL))
+
+    def resident() -> None:
+        for binding, buffer in enumerate(inputs + results):
+            buffer.bind_to_storage_buffer(binding)
+        program.run(*groups)
+        ctx.finish()
+
+    def round_trip() -> None:
+        inputs[0].write(case.change.tobytes())
+        inputs[1].write(case.frac.tobytes())
+        resident()
+        for buffer, out in zip(results, outputs, strict=True):
+            buffer.read_into(out)
+
+    return resident, round_trip
+
+
+def texture_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, Callable]:
+    """(resident, round trip) runs of the shader on float textures (read by ``texelFetch``,
+    written as images); the round trip writes ``outputs``."""
+    import moderngl
+
+    ny, nx = case.box
+    program = ctx.compute_shader(TEXTURE_SHADER.replace("LOCAL", str(LOCAL)))
+    set_uniforms(program, case)
+    size = (case.change.shape[1], case.change.shape[0])
+    inputs = [ctx.texture(size, 1, f.tobytes(), dtype="f4") for f in (case.change, case.frac)]
+    for texture in inputs:
+        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    results = [ctx.texture((nx, ny), 1, dtype="f4") for _ in range(3)]
+    groups = (-(-nx // LOCAL), -(-ny // LOCAL))
+
+    def resident() -> None:
+        for unit, texture in enumerate(inputs):
+            texture.use(unit)
+        for unit, texture in enumerate(results):
+            texture.bind_to_image(unit, read=False, write=True)
+        program.run(*groups)
+        ctx.finish()
+
+    def round_trip() -> None:
+        inputs[0].write(case.change.tobytes())
+        inputs[1].write(case.frac.tobytes())
+        resident()
+        for texture, out in zip(results, outputs, strict=True):
+            texture.read_into(out)
+
+    return resident, round_trip
+
+
+def largest_difference(outputs: list[np.ndarray], expected: list[np.ndarray]) -> float:
+    """The largest difference between two sets of results, over the largest expected value."""
+    return max(
+        float(np.max(np.abs(o - e)) / max(float(np.max(np.abs(e))), 1e-30))
+        for o, e in zip(outputs, expected, strict=True)
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=200)
@@ -121,20 +251,15 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.repeats < 1 or min(args.box) < 1:
         parser.error("--repeats and the box's sides must be at least 1")
-    dx, dy = args.travel
-    samples, pad_x, pad_y = sweep_reads(dx, dy, SPACING_TEXELS)
+    samples, pad_x, pad_y = sweep_reads(*args.travel, SPACING_TEXELS)
     if samples == 0:
         parser.error("--travel under half a texel is not swept")
-    ny, nx = args.box
-    change, frac = fields((ny, nx), (pad_x, pad_y))
-    outputs = [np.empty((ny, nx), np.float32) for _ in range(3)]
-    path = (pad_x, pad_y, dx, dy, samples)
-
-    def numba_pass() -> None:
-        _swept_fields((change, frac), path, *outputs)
-
-    cpu_ms = median_ms(numba_pass, args.repeats)
-
+    box = (args.box[0], args.box[1])
+    change, frac = fields(box, (pad_x, pad_y))
+    case = Case(change, frac, box, (pad_x, pad_y), tuple(args.travel), samples)
+    expected = [np.empty(box, np.float32) for _ in range(3)]
+    path = (pad_x, pad_y, *case.travel, samples)
+    cpu_ms = median_ms(lambda: _swept_fields((change, frac), path, *expected), args.repeats)
     try:
         import moderngl
 
@@ -142,46 +267,19 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # no EGL, or no GL 4.3 for compute shaders
         print(f"numba: {cpu_ms:.3f} ms; no compute shaders here: {exc}", file=sys.stderr)
         return 1
-    program = ctx.compute_shader(SHADER.replace("LOCAL", str(LOCAL)))
-    offs, weights = path_samples(dx, dy, samples)
-    program["size"].value = (nx, ny)
-    program["pad"].value = (pad_x, pad_y)
-    program["stride"].value = change.shape[1]
-    program["samples"].value = samples
-    program["offs"].write(np.resize(offs, (8, 2)).astype(np.int32).tobytes())
-    program["w"].write(np.resize(weights, (8, 4)).astype(np.float32).tobytes())
-    inputs = [ctx.buffer(change.tobytes()), ctx.buffer(frac.tobytes())]
-    results = [ctx.buffer(reserve=4 * nx * ny) for _ in range(3)]
-    for binding, buffer in enumerate(inputs + results):
-        buffer.bind_to_storage_buffer(binding)
-    groups = (-(-nx // LOCAL), -(-ny // LOCAL))
-
-    def resident() -> None:
-        program.run(*groups)
-        ctx.finish()
-
-    def round_trip() -> None:
-        inputs[0].write(change.tobytes())
-        inputs[1].write(frac.tobytes())
-        program.run(*groups)
-        for buffer, out in zip(results, outputs, strict=True):
-            buffer.read_into(out)
-
-    numba_pass()
-    expected = [o.copy() for o in outputs]
-    round_trip()
-    worst = max(
-        float(np.max(np.abs(o - e)) / max(float(np.max(np.abs(e))), 1e-30))
-        for o, e in zip(outputs, expected, strict=True)
-    )
-    resident_ms = median_ms(resident, args.repeats)
-    trip_ms = median_ms(round_trip, args.repeats)
-    print(f"the sweep's reading pass, {ny} x {nx} texels, {samples} samples along "
-          f"({dx:g}, {dy:g}) texels; shader on {ctx.info['GL_RENDERER']}")  # fmt: skip
-    print("| numba, one thread | shader, fields resident | shader, upload and read back |")
-    print("|---|---|---|")
-    print(f"| {cpu_ms:.3f} ms | {resident_ms:.3f} ms | {trip_ms:.3f} ms |")
-    print(f"largest difference between the two, over the largest value: {worst:.2g}")
+    print(f"the sweep's reading pass, {box[0]} x {box[1]} texels, {samples} samples along "
+          f"({case.travel[0]:g}, {case.travel[1]:g}) texels; numba on one thread: "
+          f"{cpu_ms:.3f} ms; shaders on {ctx.info['GL_RENDERER']}")  # fmt: skip
+    print("| shader form | fields resident | upload and read back | largest difference |")
+    print("|---|---|---|---|")
+    for name, form in (("storage buffers", buffer_form), ("textures", texture_form)):
+        outputs = [np.empty(box, np.float32) for _ in range(3)]
+        resident, round_trip = form(ctx, case, outputs)
+        round_trip()
+        worst = largest_difference(outputs, expected)
+        resident_ms = median_ms(resident, args.repeats)
+        trip_ms = median_ms(round_trip, args.repeats)
+        print(f"| {name} | {resident_ms:.3f} ms | {trip_ms:.3f} ms | {worst:.2g} |")
     return 0
 
 
