@@ -264,7 +264,9 @@ class ColumnWindow:
         the step (texels, x and y), lays the change along that path
         (:func:`paintapp.paint.columns_kernels.sweep_change`, or
         :func:`paintapp.paint.share_sweep.sweep_shares` for cells of at most
-        :data:`SHARE_SWEEP_MAX_TEXELS` texels). The texels are read and written by
+        :data:`SHARE_SWEEP_MAX_TEXELS` texels); a texture with a canvas tooth's own gain weights
+        (a ``gains(box)`` method, :class:`paintapp.paint.tooth.ToothTexture`) has the amount
+        sweep lay the gains where the tooth takes them. The texels are read and written by
         :mod:`paintapp.paint.columns_kernels`'s kernels; only the texels that changed are written
         and marked dirty."""
         r = self.on_canvas_range()
@@ -314,8 +316,14 @@ class ColumnWindow:
         if sweep_texels is not None:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
             travel = (float(sweep_texels[0]), float(sweep_texels[1]))
-            sweep = sweep_shares if self.k <= SHARE_SWEEP_MAX_TEXELS else kernels.sweep_change
-            sweep(*block, new_mobile, touched, total, *travel, spacing, active)
+            args = (*block, new_mobile, touched, total, *travel, spacing, active)
+            tooth = getattr(texture, "gains", None)  # a canvas tooth's own gain weights
+            if self.k <= SHARE_SWEEP_MAX_TEXELS:
+                sweep_shares(*args)
+            elif tooth is None:
+                kernels.sweep_change(*args)
+            else:
+                kernels.sweep_change(*args, tooth(box))
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)

@@ -710,7 +710,9 @@ def _swept_fields(fields, path, gain_s, loss_s, cap):
 
 
 @kernel
-def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing, active):
+def sweep_change(
+    paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spacing, active, laid_w=None
+):
     """Lay a step's change of mobile paint along the path the tip swept, in place.
 
     The step changed each texel's mobile paint ``m`` to ``new_mobile`` with the tip at its end
@@ -731,7 +733,14 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     short at the canvas's edge), or whose caps cannot take its loss, keeps its unswept change.
     ``touched`` and ``total`` (as :func:`spread_to_texels` fills them) are updated; a pigment
     ``active`` (P,) does not mark is left as it is (it has no change to lay). Returns whether
-    anything was swept."""
+    anything was swept.
+
+    ``laid_w`` (ny, nx), positive, when given: where the box's texels take gains more or less
+    readily (the canvas tooth's gain weights, :meth:`paintapp.paint.tooth.ToothTexture.gains`).
+    The step's gains hold that pattern at the texels the step laid them on; moved whole along
+    the path they would land off it. So the gains are divided by it before they are moved and
+    multiplied by it where they land, ``g_s(x) = w(x) mean over s of g(x + s d) / w(x + s d)``,
+    then scaled to the step's gains as before."""
     n_p, ny, nx = new_mobile.shape
     samples, pad_x, pad_y = sweep_reads(dx, dy, spacing)
     if samples == 0:
@@ -750,7 +759,7 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     for p in range(n_p):
         if not active[p]:
             continue
-        gained, lost = 0.0, 0.0
+        gained, lost, moved = 0.0, 0.0, 0.0  # moved: the gains as moved (divided by laid_w)
         for y in range(ny):
             row = paint[p, y0 + y, x0 : x0 + nx]
             change_row = change[pad_y + y, pad_x : pad_x + nx]
@@ -766,12 +775,28 @@ def sweep_change(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
                 frac_row[x] = min(-c / m, 1.0) if c < 0.0 and m > 0.0 else 0.0
             gained += _sum(gain_row)
             lost += _sum(loss_row)
+            if laid_w is not None:
+                w_row = laid_w[y]
+                for x in range(nx):
+                    if gain_row[x] > 0.0:
+                        gain_row[x] /= w_row[x]
+                        change_row[x] = gain_row[x]
+                moved += _sum(gain_row)
         if gained == 0.0 and lost == 0.0:
             continue
+        if laid_w is None:
+            moved = gained
         path = (pad_x, pad_y, dx, dy, samples)
         swept = _swept_fields((change, frac), path, gain_s, loss_s, cap)
-        if abs(swept - gained) > SWEPT_ROUND_OFF * gained:
+        if abs(swept - moved) > SWEPT_ROUND_OFF * moved:
             continue  # the box was cut short behind the change (the canvas's edge)
+        if laid_w is not None and gained > 0.0:
+            swept = 0.0  # the gains as laid: weighed again where they land
+            for y in range(ny):
+                g_row, w_row = gain_s[y], laid_w[y]
+                for x in range(nx):
+                    g_row[x] *= w_row[x]
+                swept += _sum(g_row)
         spread = gained / swept if gained > 0.0 else 0.0  # the gains' total kept exactly
         n = 0  # the texels that lose paint, gathered for the water-filling's passes
         for y in range(ny):

@@ -39,6 +39,7 @@ from paintapp.paint.columns import (
     cell_texels,
     square_texel_m,
 )
+from paintapp.paint.contact import contact_radius_m
 from paintapp.paint.exchange import ExchangeReport, plough_weights
 from paintapp.paint.paint_scene import PaintScene
 from paintapp.paint.tooth import ToothTexture
@@ -160,8 +161,8 @@ class PaintModel(ABC):
         self.heading = np.array([0.0, 1.0])
         #: The tip's travel (m, x and y) during the current sub-step (zero without ``sweep``).
         self.travel_m = np.zeros(2)
-        #: Where the tip last touched down (m, x and y).
-        self.touched_down_m = np.zeros(2)
+        #: The length of the tip's path in the canvas plane since it last touched down (m).
+        self.travelled_m = 0.0
         #: The paint's Reynolds number at the tip during the current step (kept at 0 unless
         #: ``choose.stokes_below_re`` asks for it).
         self.reynolds = 0.0
@@ -220,7 +221,7 @@ class PaintModel(ABC):
         """The brush enters the paint at ``pose``: centre the window there, fluid at rest."""
         self.window.place(float(pose.position_m[0]), float(pose.position_m[1]))
         self.pose = pose
-        self.touched_down_m = np.asarray(pose.position_m[:2], dtype=float).copy()
+        self.travelled_m = 0.0
         yaw = yaw_angle(pose.orientation)
         self.heading = np.array([-math.sin(yaw), math.cos(yaw)])  # body y: a flat brush's stroke
         self._reset(pose)
@@ -284,8 +285,8 @@ class PaintModel(ABC):
             min(by_travel, scene.max_travel_substeps),
         )
         result = PaintStep()
-        away = float(np.hypot(*(start.position_m[:2] - self.touched_down_m)))
-        sweep = scene.sweep and away >= 2.0 * self.footprint_radius_m(start)
+        sweep = scene.sweep and self.travelled_m >= self.sweep_start_m(start)
+        self.travelled_m += travel
         self.travel_m = move / n if sweep else np.zeros(2)
         if scene.choose.stokes_below_re > 0.0 and dt_s > 0.0:  # no work when it cannot apply
             self.reynolds = self.tip_reynolds(start, pose, dt_s)
@@ -375,6 +376,21 @@ class PaintModel(ABC):
             h,
             math.sqrt(2.0) * lateral,
         )
+
+    def sweep_start_m(self, pose: TipPose) -> float:
+        """How far (m, along its path) the tip travels from where it touched down before its
+        steps are laid along the path: twice the reach of its touch-down print, the contact's
+        radius at ``pose`` (:func:`paintapp.paint.contact.contact_radius_m`, at the height the
+        bristle texture cuts the tip) and a cell beyond it, which the print's displaced paint
+        reaches. Sweeping a step whose change still holds that print moves it behind the
+        touch-down point, where the tip never was (a hole behind the stroke's start)."""
+        if self.travelled_m >= 2.0 * (self.footprint_radius_m(pose) + self.cell_size_m):
+            return 0.0  # past any contact's reach: no need to measure it
+        h = self.cell_size_m
+        height = max(pose.press_depth_m + pose.compression_m, section_height_m(pose, h))
+        tip = self.preset.tip(pose.splay)
+        contact = contact_radius_m(tip, height, self.footprint_radius_m(pose))
+        return 2.0 * (contact + h)
 
     def footprint_radius_m(self, pose: TipPose) -> float:
         """The largest distance from the apex the tip (splayed as at ``pose``) reaches in the

@@ -197,3 +197,26 @@ def test_a_loss_the_caps_cannot_hold_keeps_its_unswept_change():
     np.testing.assert_array_equal(out[0], new[0])
     assert not np.array_equal(out[1], new[1])
     np.testing.assert_allclose(out[1].sum(), new[1].sum(), rtol=1e-9)
+
+
+def test_gains_moved_along_the_path_land_where_the_tooth_takes_them():
+    """A canvas tooth's gain weights (stripes taking paint three times as readily as the texels
+    between them) are in the step's gains where the step laid them; moved whole along the path
+    they would land off their stripes. With the weights given, the gains are moved as gains over
+    weight and weighed again where they land: the stripes keep three times the paint, the total
+    is kept."""
+    rng = np.random.default_rng(4)
+    paint, wet, mobile, new = canvas_and_change(rng, pigments=1)
+    new = mobile.copy()
+    stripes = np.where(np.arange(50) % 4 < 2, 1.5, 0.5)[None, :].repeat(30, axis=0)
+    new[:, 8:22, 30:40] += 2e-5 * stripes[8:22, 30:40]  # a deposit on the tooth's stripes
+    flat, weighed = new.copy(), new.copy()
+    for out, extra in ((flat, ()), (weighed, (stripes,))):
+        args = (np.zeros((30, 50), bool), np.zeros((30, 50)), 6.0, 0.0, 1.0, every(paint))
+        assert sweep_change(paint, wet, 5, 3, out, *args, *extra)
+        np.testing.assert_allclose(out.sum(), new.sum(), rtol=1e-12)
+    gain_flat, gain_weighed = flat - mobile, weighed - mobile
+    band = (slice(None), slice(10, 20), slice(26, 36))  # behind the deposit: moved paint only
+    on, off = stripes[10:20, 26:36] > 1.0, stripes[10:20, 26:36] < 1.0
+    assert gain_weighed[band][:, on].mean() > 2.5 * gain_weighed[band][:, off].mean()
+    assert gain_flat[band][:, on].mean() < 1.5 * gain_flat[band][:, off].mean()
