@@ -39,6 +39,8 @@ WINDOW_TRAVEL = (10.4, 1.2)
 #: A sample every this many texels (the window's brush: nine texels a cell, three a cell).
 SPACING_TEXELS = 3.0
 LOCAL = 16
+#: The most samples along the path the shaders take (their uniform arrays' length).
+READS = 64
 
 SHADER = """
 #version 430
@@ -52,8 +54,8 @@ uniform ivec2 size;
 uniform ivec2 pad;
 uniform int stride;
 uniform int samples;
-uniform ivec2 offs[8];
-uniform vec4 w[8];
+uniform ivec2 offs[READS];
+uniform vec4 w[READS];
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= size.x || p.y >= size.y) return;
@@ -87,8 +89,8 @@ layout(r32f, binding = 2) writeonly uniform image2D cap;
 uniform ivec2 size;
 uniform ivec2 pad;
 uniform int samples;
-uniform ivec2 offs[8];
-uniform vec4 w[8];
+uniform ivec2 offs[READS];
+uniform vec4 w[READS];
 vec4 quad(sampler2D field, ivec2 a) {
     return vec4(texelFetch(field, a, 0).r, texelFetch(field, a + ivec2(1, 0), 0).r,
                 texelFetch(field, a + ivec2(0, 1), 0).r, texelFetch(field, a + ivec2(1, 1), 0).r);
@@ -110,6 +112,11 @@ void main() {
     imageStore(cap, p, vec4(c));
 }
 """
+
+
+def sized(source: str) -> str:
+    """A shader's source with its work group's side and its arrays' length filled in."""
+    return source.replace("LOCAL", str(LOCAL)).replace("READS", str(READS))
 
 
 def fields(box: tuple[int, int], pad: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -170,15 +177,15 @@ def set_uniforms(program, case: Case) -> None:
     program["size"].value = (case.box[1], case.box[0])
     program["pad"].value = case.pad
     program["samples"].value = case.samples
-    program["offs"].write(np.resize(offs, (8, 2)).astype(np.int32).tobytes())
-    program["w"].write(np.resize(weights, (8, 4)).astype(np.float32).tobytes())
+    program["offs"].write(np.resize(offs, (READS, 2)).astype(np.int32).tobytes())
+    program["w"].write(np.resize(weights, (READS, 4)).astype(np.float32).tobytes())
 
 
 def buffer_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, Callable]:
     """(resident, round trip) runs of the shader on storage buffers; the round trip writes
     ``outputs``."""
     ny, nx = case.box
-    program = ctx.compute_shader(SHADER.replace("LOCAL", str(LOCAL)))
+    program = ctx.compute_shader(sized(SHADER))
     set_uniforms(program, case)
     program["stride"].value = case.change.shape[1]
     inputs = [ctx.buffer(case.change.tobytes()), ctx.buffer(case.frac.tobytes())]
@@ -207,7 +214,7 @@ def texture_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, 
     import moderngl
 
     ny, nx = case.box
-    program = ctx.compute_shader(TEXTURE_SHADER.replace("LOCAL", str(LOCAL)))
+    program = ctx.compute_shader(sized(TEXTURE_SHADER))
     set_uniforms(program, case)
     size = (case.change.shape[1], case.change.shape[0])
     inputs = [ctx.texture(size, 1, f.tobytes(), dtype="f4") for f in (case.change, case.frac)]
@@ -254,6 +261,8 @@ def main(argv: list[str] | None = None) -> int:
     samples, pad_x, pad_y = sweep_reads(*args.travel, SPACING_TEXELS)
     if samples == 0:
         parser.error("--travel under half a texel is not swept")
+    if samples > READS:
+        parser.error(f"--travel takes {samples} samples; the shaders take at most {READS}")
     box = (args.box[0], args.box[1])
     change, frac = fields(box, (pad_x, pad_y))
     case = Case(change, frac, box, (pad_x, pad_y), tuple(args.travel), samples)

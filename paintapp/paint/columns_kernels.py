@@ -30,8 +30,14 @@ TAPS = 3
 
 #: Most samples along the path that a swept change is averaged over: enough for a sample a
 #: texel along the demo's fastest sub-steps (6.3 texels); each sample is a pass over the box, so
-#: the write-back's cost grows with it.
+#: the write-back's cost grows with it. A longer sub-step (a fast stroke, or a stalled session's
+#: catch-up) takes more, so that its samples are never more than :data:`MAX_READ_GAP` spacings
+#: apart.
 MAX_SWEEP_SAMPLES = 8
+#: The widest gap between two samples along the path, in the sweep's spacings (three spacings:
+#: a cell, for cells of up to 18 texels): eight samples along a sub-step of several cells laid
+#: its change as a row of copies.
+MAX_READ_GAP = 3.0
 
 #: How far the sweep's moved gains may miss the step's gains, as a share of them, before the
 #: box counts as cut short behind the change: the fields are float32 (:func:`_swept_fields`),
@@ -719,7 +725,7 @@ def sweep_change(
     pose; during the step it came from ``(dx, dy)`` texels back. Per pigment, the gains
     ``g = max(new - m, 0)`` are laid as their mean along that path,
     ``g_s(x) = mean over s in (0, 1) of g(x + s d)`` (bilinear, a sample every ``spacing`` texels
-    or closer, at most :data:`MAX_SWEEP_SAMPLES` for a stalled session's catch-up step; every value
+    or closer, as :func:`sweep_reads` counts them; every value
     moves whole, so the total is kept when the box reaches ``|d|`` behind the change). The losses
     ``l = max(m - new, 0)`` go the same way, each texel's take capped at ``c = f_max m`` (its own
     paint times the largest *fraction* ``f = l / m`` lost along its path) and scaled, water-filling
@@ -840,13 +846,15 @@ def sweep_change(
 @kernel
 def sweep_reads(dx, dy, spacing):
     """``(samples, pad_x, pad_y)`` of a sweep along (``dx``, ``dy``) texels read every
-    ``spacing`` texels or closer (at most :data:`MAX_SWEEP_SAMPLES` reads), and the columns and
+    ``spacing`` texels or closer (at most :data:`MAX_SWEEP_SAMPLES` reads, or more where those
+    would lie more than :data:`MAX_READ_GAP` spacings apart), and the columns and
     rows of zeros its fields are padded with on every side (``|d| + 2``); no reads (0, 0, 0)
     for a travel under half a texel, which is not swept."""
     travel = max(abs(dx), abs(dy))
     if travel < 0.5:
         return 0, 0, 0
-    samples = min(max(1, int(np.ceil(travel / spacing))), MAX_SWEEP_SAMPLES)
+    most = max(MAX_SWEEP_SAMPLES, int(np.ceil(travel / (MAX_READ_GAP * spacing))))
+    samples = min(max(1, int(np.ceil(travel / spacing))), most)
     return samples, int(np.ceil(abs(dx))) + 2, int(np.ceil(abs(dy))) + 2
 
 

@@ -285,14 +285,16 @@ class PaintModel(ABC):
             min(by_travel, scene.max_travel_substeps),
         )
         result = PaintStep()
-        sweep = scene.sweep and self.travelled_m >= self.sweep_start_m(start)
-        self.travelled_m += travel
-        self.travel_m = move / n if sweep else np.zeros(2)
+        # each sub-step laid along its path once it starts clear of the touch-down print
+        sweep_from = self.sweep_start_m(start) if scene.sweep else math.inf
+        travelled, self.travelled_m = self.travelled_m, self.travelled_m + travel
         if scene.choose.stokes_below_re > 0.0 and dt_s > 0.0:  # no work when it cannot apply
             self.reynolds = self.tip_reynolds(start, pose, dt_s)
         for s in range(n):
             f = (s + 1) / n
             centre = (1.0 - f) * start.position_m + f * pose.position_m
+            clear = travelled + s * travel / n >= sweep_from
+            self.travel_m = move / n if clear else np.zeros(2)
             clock = PhaseTimer()
             self.follow(centre)
             clock.mark("follow")
@@ -379,7 +381,7 @@ class PaintModel(ABC):
 
     def sweep_start_m(self, pose: TipPose) -> float:
         """How far (m, along its path) the tip travels from where it touched down before its
-        steps are laid along the path: twice the reach of its touch-down print, the contact's
+        sub-steps are laid along the path (a sub-step that starts that far out or farther): twice the reach of its touch-down print, the contact's
         radius at ``pose`` (:func:`paintapp.paint.contact.contact_radius_m`, at the height the
         bristle texture cuts the tip) and a cell beyond it, which the print's displaced paint
         reaches. Sweeping a step whose change still holds that print moves it behind the

@@ -207,8 +207,8 @@ def sweep_shares(paint, wetness, x0, y0, new_mobile, touched, total, dx, dy, spa
     (P, H, W) and ``wetness`` (H, W) the canvas's float32 arrays, the box's first texel at
     (``x0``, ``y0``), ``new_mobile`` (P, ny, nx) the step's new mobile paint there with the tip
     at its end pose, ``(dx, dy)`` texels the tip's travel during the step, read every
-    ``spacing`` texels or closer (at most
-    :data:`paintapp.paint.columns_kernels.MAX_SWEEP_SAMPLES` reads). A pigment whose
+    ``spacing`` texels or closer (as :func:`paintapp.paint.columns_kernels.sweep_reads` counts
+    the reads). A pigment whose
     swept amounts miss the step's by more than :data:`SWEPT_ROUND_OFF` of them (the box cut
     short at the canvas's edge), or whose texels on the path hold less than its loss, keeps its
     unswept change. ``touched`` and ``total`` are updated; a pigment ``active`` (P,) does not

@@ -220,3 +220,18 @@ def test_gains_moved_along_the_path_land_where_the_tooth_takes_them():
     on, off = stripes[10:20, 26:36] > 1.0, stripes[10:20, 26:36] < 1.0
     assert gain_weighed[band][:, on].mean() > 2.5 * gain_weighed[band][:, off].mean()
     assert gain_flat[band][:, on].mean() < 1.5 * gain_flat[band][:, off].mean()
+
+
+def test_a_long_sub_step_is_read_at_most_a_cell_apart():
+    """Eight reads along a sub-step of several cells laid its change as eight copies (a fast
+    stroke, a stalled window's catch-up). Short sub-steps keep at most eight reads; longer ones
+    take more, never more than three spacings apart."""
+    from paintapp.paint.columns_kernels import MAX_READ_GAP, MAX_SWEEP_SAMPLES, sweep_reads
+
+    assert sweep_reads(12.0, 0.0, 3.0)[0] == 4
+    assert sweep_reads(40.0, 0.0, 3.0)[0] == MAX_SWEEP_SAMPLES  # 13.3 a spacing: capped
+    for travel in (80.0, 250.0, 600.0):
+        samples, pad_x, _ = sweep_reads(travel, 0.3 * travel, 3.0)
+        assert samples > MAX_SWEEP_SAMPLES
+        assert travel / samples <= MAX_READ_GAP * 3.0
+        assert pad_x == int(np.ceil(travel)) + 2
