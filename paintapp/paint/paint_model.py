@@ -381,11 +381,12 @@ class PaintModel(ABC):
 
     def sweep_start_m(self, pose: TipPose) -> float:
         """How far (m, along its path) the tip travels from where it touched down before its
-        sub-steps are laid along the path (a sub-step that starts that far out or farther): twice the reach of its touch-down print, the contact's
-        radius at ``pose`` (:func:`paintapp.paint.contact.contact_radius_m`, at the height the
-        bristle texture cuts the tip) and a cell beyond it, which the print's displaced paint
-        reaches. Sweeping a step whose change still holds that print moves it behind the
-        touch-down point, where the tip never was (a hole behind the stroke's start)."""
+        sub-steps are laid along the path (those that start that far out or farther): twice the
+        reach of its touch-down print, the contact's radius at ``pose``
+        (:func:`paintapp.paint.contact.contact_radius_m`, at the height the bristle texture cuts
+        the tip) and a cell beyond it, which the print's displaced paint reaches. Sweeping a
+        sub-step whose change still holds that print moves it behind the touch-down point, where
+        the tip never was (a hole behind the stroke's start)."""
         if self.travelled_m >= 2.0 * (self.footprint_radius_m(pose) + self.cell_size_m):
             return 0.0  # past any contact's reach: no need to measure it
         h = self.cell_size_m
