@@ -181,6 +181,22 @@ def set_uniforms(program, case: Case) -> None:
     program["w"].write(np.resize(weights, (READS, 4)).astype(np.float32).tobytes())
 
 
+def with_transfers(case: Case, objects: tuple[list, list], resident: Callable,
+                   outputs: list[np.ndarray]) -> Callable:  # fmt: skip
+    """``resident`` with the fields uploaded to ``objects``' inputs (buffers or textures) before
+    and its results read into ``outputs`` after."""
+    inputs, results = objects
+
+    def round_trip() -> None:
+        for field, target in zip((case.change, case.frac), inputs, strict=True):
+            target.write(field.tobytes())
+        resident()
+        for source, out in zip(results, outputs, strict=True):
+            source.read_into(out)
+
+    return round_trip
+
+
 def buffer_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, Callable]:
     """(resident, round trip) runs of the shader on storage buffers; the round trip writes
     ``outputs``."""
@@ -198,14 +214,7 @@ def buffer_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, C
         program.run(*groups)
         ctx.finish()
 
-    def round_trip() -> None:
-        inputs[0].write(case.change.tobytes())
-        inputs[1].write(case.frac.tobytes())
-        resident()
-        for buffer, out in zip(results, outputs, strict=True):
-            buffer.read_into(out)
-
-    return resident, round_trip
+    return resident, with_transfers(case, (inputs, results), resident, outputs)
 
 
 def texture_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, Callable]:
@@ -231,14 +240,7 @@ def texture_form(ctx, case: Case, outputs: list[np.ndarray]) -> tuple[Callable, 
         program.run(*groups)
         ctx.finish()
 
-    def round_trip() -> None:
-        inputs[0].write(case.change.tobytes())
-        inputs[1].write(case.frac.tobytes())
-        resident()
-        for texture, out in zip(results, outputs, strict=True):
-            texture.read_into(out)
-
-    return resident, round_trip
+    return resident, with_transfers(case, (inputs, results), resident, outputs)
 
 
 def largest_difference(outputs: list[np.ndarray], expected: list[np.ndarray]) -> float:
