@@ -74,7 +74,7 @@ def test_a_fast_stroke_is_laid_along_its_path_once_clear_of_its_touch_down_print
     swept, start, body = fast_stroke_sweeps()
     assert 0.0 < start < 0.4 * body
     assert swept[0] is False  # the touch-down's own step
-    # 4.7 mm a step, the first without travel: the third move starts 9.3 mm out (the body's
-    # width waited for the sixth)
-    assert swept.index(True) <= 3
+    # 4.7 mm a step in two sub-steps, the first step without travel: the second move's second
+    # sub-step starts 7.0 mm out (the body's width waited for the sixth move)
+    assert swept.index(True) <= 2
     assert all(swept[swept.index(True) :])
