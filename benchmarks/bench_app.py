@@ -8,12 +8,13 @@
                                    [--zoom fit,100,800]
 
 Opens the real window (on the current display, or on a private Xvfb server when there is none),
-dips the brush, and paints a synthesized circular stroke for ``--seconds``: as tablet events sent
-to the canvas widget (``none``), or as the simulated hand's target (``sim``, which also runs the 1
-kHz servo loop, in its own process unless ``--servo thread``), with the window's simulation in a
-thread of the window or (``--simulation process``) a process of its own. Prints the display frame
-rate (passes of the render loop, each leaving the screen up to date, and how many of them had
-something to redraw), the paint steps per second, and with a device the servo loop's achieved
+dips the brush, and paints a synthesized circular stroke for ``--seconds``, its pressure rising
+over its first 0.2 s: as tablet events sent to the canvas widget (``none``), or as the simulated
+hand's target (``sim``: the hand first carried to the stroke's start in the air, untimed; it also
+runs the 1 kHz servo loop, in its own process unless ``--servo thread``), with the window's
+simulation in a thread of the window or (``--simulation process``) a process of its own. Prints
+the display frame rate (passes of the render loop, each leaving the screen up to date, and how
+many of them had something to redraw), the paint steps per second, and with a device the servo loop's achieved
 rate, tick-interval jitter and start lateness, and what the OS granted the servo process. Then
 (unless ``--headless-seconds 0``) it feeds the very samples and events the window's simulation
 consumed (its journal) to a fresh session of the same brush and scene -- no window, no servo loop
@@ -114,6 +115,14 @@ def tablet_sender(widget):
     return send
 
 
+#: Seconds the simulated hand is given to reach the stroke's start in the air before the timing
+#: (its grip's spring rings down to under a millimetre of a 0.25 m move), and the seconds over
+#: which the pen's pressure then rises to ``PRESSURE``: a brush set down, not dropped.
+APPROACH_S = 1.0
+PRESS_S = 0.2
+PRESSURE = 0.8
+
+
 def circle_m(win, t: float, radius_m: float | None = None) -> tuple[float, float]:
     """The stroke: a circle about the canvas centre, once per 3 s, of radius ``radius_m``
     (default a quarter of the canvas height)."""
@@ -201,6 +210,12 @@ def paint(
 
     widget = win.canvas_widget
     send = tablet_sender(widget)
+    if win.link is not None:  # the simulated hand carried to the stroke's start in the air
+        win.link.target.set(*circle_m(win, 0.0, radius_m), 0.0, False)
+        until = time.perf_counter() + APPROACH_S
+        while time.perf_counter() < until:
+            app.processEvents()
+            time.sleep(0.004)
     frames0, steps0 = widget.frame_count, paint_steps(win)
     drawn0 = widget.drawn_count
     worker_cpu = worker_cpu_clock(win)
@@ -212,11 +227,12 @@ def paint(
     x_m = y_m = 0.0
     while (t := time.perf_counter() - start) < seconds:
         x_m, y_m = circle_m(win, t, radius_m)
+        pressure = PRESSURE * min(1.0, t / PRESS_S)
         if win.link is not None:
-            win.link.target.set(x_m, y_m, 0.8, True)
+            win.link.target.set(x_m, y_m, pressure, True)
         else:
             kind = QEvent.Type.TabletPress if first else QEvent.Type.TabletMove
-            send(kind, *widget.mapping().to_widget(x_m, y_m), 0.8)
+            send(kind, *widget.mapping().to_widget(x_m, y_m), pressure)
         first = False
         app.processEvents()
         time.sleep(0.004)
