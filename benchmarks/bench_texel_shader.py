@@ -23,6 +23,7 @@ On a machine without a GPU the shader runs on Mesa's llvmpipe (the renderer's na
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import sys
 import time
@@ -39,6 +40,8 @@ WINDOW_TRAVEL = (10.4, 1.2)
 #: A sample every this many texels (the window's brush: nine texels a cell, three a cell).
 SPACING_TEXELS = 3.0
 LOCAL = 16
+#: The largest box side and travel the benchmark takes (texels).
+MAX_BOX = 4096
 #: The most samples along the path the shaders take (their uniform arrays' length).
 READS = 64
 
@@ -258,8 +261,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--travel", type=float, nargs=2, default=WINDOW_TRAVEL,
                         metavar=("DX", "DY"))  # fmt: skip
     args = parser.parse_args(argv)
-    if args.repeats < 1 or min(args.box) < 1:
-        parser.error("--repeats and the box's sides must be at least 1")
+    if args.repeats < 1 or not 1 <= min(args.box) <= max(args.box) <= MAX_BOX:
+        parser.error(f"--repeats must be at least 1, the box's sides 1 to {MAX_BOX} texels")
+    if not all(math.isfinite(d) and abs(d) <= MAX_BOX for d in args.travel):
+        parser.error(f"--travel takes finite texels, at most {MAX_BOX} each way")
     samples, pad_x, pad_y = sweep_reads(*args.travel, SPACING_TEXELS)
     if samples == 0:
         parser.error("--travel under half a texel is not swept")

@@ -265,8 +265,8 @@ class ColumnWindow:
         (:func:`paintapp.paint.columns_kernels.sweep_change`, or
         :func:`paintapp.paint.share_sweep.sweep_shares` for cells of at most
         :data:`SHARE_SWEEP_MAX_TEXELS` texels); a texture with a canvas tooth's own gain weights
-        (a ``gains(box)`` method, :class:`paintapp.paint.tooth.ToothTexture`) has the amount
-        sweep lay the gains where the tooth takes them. The texels are read and written by
+        (a ``weights_and_gains(box)`` method, :class:`paintapp.paint.tooth.ToothTexture`) has
+        the amount sweep lay the gains where the tooth takes them. The texels are read and written by
         :mod:`paintapp.paint.columns_kernels`'s kernels; only the texels that changed are written
         and marked dirty."""
         r = self.on_canvas_range()
@@ -293,7 +293,14 @@ class ColumnWindow:
             sweep_texels = None
         box = self._texel_block(sub, sweep_texels or (0.0, 0.0))
         wx, wy = self._weights(sub, box)
-        shape = texture.weights(box) if texture is not None else None
+        shape: tuple[np.ndarray, np.ndarray] | None = None
+        tooth: np.ndarray | None = None  # a canvas tooth's own gain weights, for the sweep
+        split = getattr(texture, "weights_and_gains", None)
+        if split is not None:
+            gain_w, loss_w, tooth = split(box)
+            shape = (gain_w, loss_w)
+        elif texture is not None:
+            shape = texture.weights(box)
         block = (canvas.paint_m, canvas.wetness, box[0], box[1])
         texels = kernels.TexelBox(*block, wx.first, wx.taps, wy.first, wy.taps)
         if shape is None:
@@ -317,13 +324,12 @@ class ColumnWindow:
             spacing = min(self.k / SWEEP_SAMPLES_PER_CELL, SWEEP_SPACING_TEXELS)
             travel = (float(sweep_texels[0]), float(sweep_texels[1]))
             args = (*block, new_mobile, touched, total, *travel, spacing, active)
-            tooth = getattr(texture, "gains", None)  # a canvas tooth's own gain weights
             if self.k <= SHARE_SWEEP_MAX_TEXELS:
                 sweep_shares(*args)
             elif tooth is None:
                 kernels.sweep_change(*args)
             else:
-                kernels.sweep_change(*args, tooth(box))
+                kernels.sweep_change(*args, tooth)
         kernels.close_pinholes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.fill_thin_holes(new_mobile, touched, total, FILM_FLOOR_M)
         kernels.gather_fringe_films(new_mobile, touched, total, FRINGE_FLOOR_M)

@@ -742,7 +742,7 @@ def sweep_change(
     anything was swept.
 
     ``laid_w`` (ny, nx), positive, when given: where the box's texels take gains more or less
-    readily (the canvas tooth's gain weights, :meth:`paintapp.paint.tooth.ToothTexture.gains`).
+    readily (the canvas tooth's gain weights, :meth:`paintapp.paint.tooth.ToothTexture.weights_and_gains`).
     The step's gains hold that pattern at the texels the step laid them on; moved whole along
     the path they would land off it. So the gains are divided by it before they are moved and
     multiplied by it where they land, ``g_s(x) = w(x) mean over s of g(x + s d) / w(x + s d)``,

@@ -387,13 +387,11 @@ class PaintModel(ABC):
         the tip) and a cell beyond it, which the print's displaced paint reaches. Sweeping a
         sub-step whose change still holds that print moves it behind the touch-down point, where
         the tip never was (a hole behind the stroke's start)."""
-        if self.travelled_m >= 2.0 * (self.footprint_radius_m(pose) + self.cell_size_m):
+        h, reach = self.cell_size_m, self.footprint_radius_m(pose)
+        if self.travelled_m >= 2.0 * (reach + h):
             return 0.0  # past any contact's reach: no need to measure it
-        h = self.cell_size_m
         height = max(pose.press_depth_m + pose.compression_m, section_height_m(pose, h))
-        tip = self.preset.tip(pose.splay)
-        contact = contact_radius_m(tip, height, self.footprint_radius_m(pose))
-        return 2.0 * (contact + h)
+        return 2.0 * (contact_radius_m(self.preset.tip(pose.splay), height, reach) + h)
 
     def footprint_radius_m(self, pose: TipPose) -> float:
         """The largest distance from the apex the tip (splayed as at ``pose``) reaches in the

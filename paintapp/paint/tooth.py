@@ -84,29 +84,28 @@ class ToothTexture:
         self.top_m = tooth_top_m(canvas.surface, canvas.texel_size_m[0])
         self.depth_m = max(contact_depth_m(canvas.surface, pressure), 1e-12)
 
-    def _engagement(self, box: Box) -> np.ndarray:
-        """(ny, nx): :func:`engagement` over the texels of ``box`` = (x0, y0, x1, y1)."""
+    def weights_and_gains(self, box: Box) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(gain, loss, tooth gain) weights (ny, nx) over the texels of ``box`` = (x0, y0, x1,
+        y1): :meth:`weights`, and the tooth's own gain weights without the bristles' (how
+        readily each texel takes paint, > 0; the write-back's sweep lays gains by them), from
+        one reading of the engagement."""
         x0, y0, x1, y1 = box
         c = self.canvas
         paint = c.paint_m[:, y0:y1, x0:x1].sum(axis=0, dtype=np.float64)
-        return engagement(c.tooth_m[y0:y1, x0:x1], paint, self.top_m, self.depth_m)
-
-    def gains(self, box: Box) -> np.ndarray:
-        """(ny, nx): the tooth's own gain weights over the texels of ``box`` = (x0, y0, x1,
-        y1), without the bristles' (those of :meth:`weights`): how readily each texel takes
-        paint, > 0."""
-        return GAIN_FLOOR + self._engagement(box)
-
-    def weights(self, box: Box) -> tuple[np.ndarray, np.ndarray]:
-        """(gain, loss) weights (ny, nx) over the texels of ``box`` = (x0, y0, x1, y1): gains
-        > 0, losses in (0, 1]."""
-        e = self._engagement(box)
-        gain = GAIN_FLOOR + e
+        e = engagement(c.tooth_m[y0:y1, x0:x1], paint, self.top_m, self.depth_m)
+        tooth_gain = GAIN_FLOOR + e
+        gain = tooth_gain.copy()
         loss = np.maximum(e, LOSS_FLOOR)
         inner = self.bristles.weights(box) if self.bristles is not None else None
         if inner is not None:
             gain *= inner[0]
             loss *= inner[1]
+        return gain, loss, tooth_gain
+
+    def weights(self, box: Box) -> tuple[np.ndarray, np.ndarray]:
+        """(gain, loss) weights (ny, nx) over the texels of ``box`` = (x0, y0, x1, y1): gains
+        > 0, losses in (0, 1]."""
+        gain, loss, _ = self.weights_and_gains(box)
         return gain, loss
 
 
