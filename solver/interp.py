@@ -29,40 +29,42 @@ def _clamped_index(x: float, offset: float, h: float, n: int) -> tuple[int, floa
 
 
 @inline_kernel
-def _cell(s: float, n: int) -> tuple[np.uint64, float]:
-    """Lower sample index (unsigned) and fraction of sample coordinate ``s``, clamped to
-    [0, n - 1]; NaN clamps to 0. Branch-free min/max, and an unsigned index spares numba's
-    wrap-around test on every access that uses it (the same values as :func:`_clamped`)."""
-    if not s > 0.0:  # also NaN
-        s = 0.0
-    s = min(s, n - 1.0)
-    i = min(int(s), max(n - 2, 0))
-    return np.uint64(i), s - i
-
-
-@inline_kernel
-def _next(i: np.uint64, n: int) -> np.uint64:
-    """The upper neighbour of lower index ``i`` (``i`` itself along a one-sample axis)."""
-    return i + np.uint64(1) if n > 1 else i
-
-
-@inline_kernel
 def lerp(q: np.ndarray, s0: float, s1: float, s2: float) -> float:
     """Trilinear (bilinear when one sample deep) value of ``q`` at sample coordinates
-    (s0, s1, s2): index units, clamped to the samples' range. The kernels' inner routine: no
-    division, inlined."""
+    (s0, s1, s2): index units, clamped to the samples' range (NaN clamps to 0). The kernels'
+    inner routine: no division, inlined.
+
+    The lower index along each axis is unsigned (it spares numba's wrap-around test on every
+    access), found by branch-free min/max; the upper one is the next sample, or the same one
+    along a one-sample axis. Written out, not through helpers: numba inlines a helper by
+    compiling it again at each call site, and the kernels inline this one many times."""
     nx, ny, nz = q.shape
-    i, fx = _cell(s0, nx)
-    j, fy = _cell(s1, ny)
-    i1 = _next(i, nx)
-    j1 = _next(j, ny)
+    if not s0 > 0.0:  # also NaN
+        s0 = 0.0
+    if not s1 > 0.0:
+        s1 = 0.0
+    s0 = min(s0, nx - 1.0)
+    s1 = min(s1, ny - 1.0)
+    li = min(int(s0), max(nx - 2, 0))
+    lj = min(int(s1), max(ny - 2, 0))
+    fx = s0 - li
+    fy = s1 - lj
+    i = np.uint64(li)
+    j = np.uint64(lj)
+    i1 = i + np.uint64(1) if nx > 1 else i
+    j1 = j + np.uint64(1) if ny > 1 else j
     if nz == 1:
         z = np.uint64(0)
         a = q[i, j, z] + fx * (q[i1, j, z] - q[i, j, z])
         b = q[i, j1, z] + fx * (q[i1, j1, z] - q[i, j1, z])
         return a + fy * (b - a)
-    k, fz = _cell(s2, nz)
-    k1 = _next(k, nz)
+    if not s2 > 0.0:
+        s2 = 0.0
+    s2 = min(s2, nz - 1.0)
+    lk = min(int(s2), max(nz - 2, 0))
+    fz = s2 - lk
+    k = np.uint64(lk)
+    k1 = k + np.uint64(1)
     c00 = q[i, j, k] + fx * (q[i1, j, k] - q[i, j, k])
     c10 = q[i, j1, k] + fx * (q[i1, j1, k] - q[i, j1, k])
     c01 = q[i, j, k1] + fx * (q[i1, j, k1] - q[i, j, k1])
@@ -100,14 +102,21 @@ def sample(q: np.ndarray, axis: int, x: float, y: float, z: float, h: float) -> 
 
 @inline_kernel
 def range_at(q: np.ndarray, s0: float, s1: float, s2: float) -> tuple[float, float]:
-    """Minimum and maximum of the samples that :func:`lerp` blends at (s0, s1, s2)."""
+    """Minimum and maximum of the samples that :func:`lerp` blends at (s0, s1, s2) (its lower
+    indices, written out as there)."""
     nx, ny, nz = q.shape
-    i, _ = _cell(s0, nx)
-    j, _ = _cell(s1, ny)
-    k, _ = _cell(s2, nz)
-    ii = (i, _next(i, nx))
-    jj = (j, _next(j, ny))
-    kk = (k, _next(k, nz))
+    if not s0 > 0.0:  # also NaN
+        s0 = 0.0
+    if not s1 > 0.0:
+        s1 = 0.0
+    if not s2 > 0.0:
+        s2 = 0.0
+    i = np.uint64(min(int(min(s0, nx - 1.0)), max(nx - 2, 0)))
+    j = np.uint64(min(int(min(s1, ny - 1.0)), max(ny - 2, 0)))
+    k = np.uint64(min(int(min(s2, nz - 1.0)), max(nz - 2, 0)))
+    ii = (i, i + np.uint64(1) if nx > 1 else i)
+    jj = (j, j + np.uint64(1) if ny > 1 else j)
+    kk = (k, k + np.uint64(1) if nz > 1 else k)
     lo = np.inf
     hi = -np.inf
     for a in ii:
